@@ -1,0 +1,128 @@
+"""The Python API: the engine without the CLI, for pipelines and notebooks.
+
+``lint_file`` and ``lint_bytes`` lint one input; ``collect_inputs`` and ``lint_inputs``
+are what ``xodrlint check`` runs over its paths. A pipeline (Dask, Spark, a CI matrix)
+can call ``lint_file`` per file; reuse a :class:`~xodrlint.engine.Linter` to compile
+the schemas only once.
+"""
+
+from __future__ import annotations
+
+import os
+import stat
+from collections.abc import Iterable, Iterator, Sequence
+from dataclasses import dataclass
+from functools import lru_cache
+from pathlib import Path
+from typing import Final
+
+from xodrlint.engine import Linter, LintOptions
+from xodrlint.findings import FileReport, Severity
+from xodrlint.registry import Registry, load_registry
+
+__all__ = ["LintOptions", "Linter", "collect_inputs", "lint_bytes", "lint_file", "lint_inputs"]
+
+STDIN: Final = "-"
+XODR_SUFFIX: Final = ".xodr"
+
+
+@lru_cache(maxsize=1)
+def default_registry() -> Registry:
+    return load_registry()
+
+
+@lru_cache(maxsize=8)
+def _linter(select: tuple[str, ...], ignore: tuple[str, ...], schema: Path | None) -> Linter:
+    return Linter(default_registry(), LintOptions(select=select, ignore=ignore, schema=schema))
+
+
+def lint_file(
+    path: str | os.PathLike[str],
+    *,
+    select: Sequence[str] = ("ALL",),
+    ignore: Sequence[str] = (),
+    schema: str | os.PathLike[str] | None = None,
+) -> FileReport:
+    """Lint one file; a file that cannot be read gives a report with ``error`` set."""
+    linter = _linter(tuple(select), tuple(ignore), Path(schema) if schema else None)
+    return linter.lint_path(Path(path))
+
+
+def lint_bytes(
+    data: bytes,
+    path: str = "<bytes>",
+    *,
+    select: Sequence[str] = ("ALL",),
+    ignore: Sequence[str] = (),
+    schema: str | os.PathLike[str] | None = None,
+) -> FileReport:
+    """Lint the contents of a file; ``path`` is only the name findings carry."""
+    linter = _linter(tuple(select), tuple(ignore), Path(schema) if schema else None)
+    return linter.lint_bytes(data, path)
+
+
+@dataclass(frozen=True, slots=True)
+class Input:
+    """One thing to lint: a file, standard input, or a path that cannot be linted."""
+
+    display: str
+    path: Path | None = None
+    error: str | None = None
+    is_stdin: bool = False
+
+
+def collect_inputs(paths: Iterable[str]) -> Iterator[Input]:
+    """Files as given, folders walked for ``*.xodr`` (sorted, symlinks not followed)."""
+    for raw in paths:
+        if raw == STDIN:
+            yield Input(STDIN, is_stdin=True)
+            continue
+        path = Path(raw)
+        try:
+            mode = path.stat().st_mode
+        except OSError as error:
+            yield Input(raw, error=f"{raw}: {_reason(error)}")
+            continue
+        if stat.S_ISDIR(mode):
+            yield from _walk(path)
+        else:
+            yield Input(raw, path=path)
+
+
+def _walk(folder: Path) -> Iterator[Input]:
+    found: list[Path] = []
+    for current, folders, files in os.walk(folder, followlinks=False):
+        folders.sort()
+        found.extend(Path(current, name) for name in files if name.lower().endswith(XODR_SUFFIX))
+    for path in sorted(found):
+        yield Input(path.as_posix(), path=path)
+
+
+def _reason(error: OSError) -> str:
+    reason = error.strerror or type(error).__name__
+    return reason[:1].lower() + reason[1:]
+
+
+def lint_inputs(
+    linter: Linter, inputs: Iterable[Input], stdin: bytes | None = None, stdin_name: str = STDIN
+) -> Iterator[FileReport]:
+    for item in inputs:
+        if item.error is not None:
+            yield FileReport(item.display, error=item.error)
+        elif item.is_stdin:
+            yield linter.lint_bytes(stdin or b"", stdin_name)
+        else:
+            assert item.path is not None
+            yield linter.lint_path(item.path, item.display)
+
+
+def exit_code(reports: Sequence[FileReport], fail_on: Severity, exit_zero: bool) -> int:
+    """0 clean, 1 findings at or above ``fail_on``, 2 unreadable input, 3 internal error."""
+    if any(r.internal_errors for r in reports):
+        return 3
+    if any(r.error for r in reports):
+        return 2
+    if exit_zero:
+        return 0
+    failing = any(f.severity.rank >= fail_on.rank for r in reports for f in r.findings)
+    return 1 if failing else 0

@@ -1,0 +1,368 @@
+"""Stage 1, load: bytes to a parsed, hardened OpenDRIVE document with exact positions.
+
+Everything that can go wrong while reading a file becomes a hit of a document rule
+(XS001 to XS005) on the returned :class:`Document`; nothing here raises for bad input.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Final
+
+from lxml import etree
+
+from xodrlint.findings import Hit
+
+#: ASAM's pre-1.6 namespace; files using it are read as if un-namespaced.
+ASAM_LEGACY_NAMESPACE: Final = "http://code.asam.net/simulation/standard/opendrive_schema"
+
+#: The minor versions of OpenDRIVE 1.x that ASAM has published.
+KNOWN_MINORS: Final = range(1, 10)
+
+#: libxml2 stores an element's line in 16 bits; from this value on ``sourceline`` is a guess.
+_LIBXML2_LINE_CAP: Final = 65535
+
+
+def hardened_parser() -> etree.XMLParser:
+    """The one parser configuration xodrlint reads maps with.
+
+    No entity expansion (billion laughs, external entities), no DTD loading, no network,
+    no XInclude (lxml only processes it on request, and we never request it). Comments and
+    processing instructions are kept: inline suppressions live in comments.
+    """
+    return etree.XMLParser(
+        resolve_entities=False,
+        load_dtd=False,
+        dtd_validation=False,
+        no_network=True,
+        huge_tree=False,
+        collect_ids=False,
+        remove_comments=False,
+        remove_pis=False,
+    )
+
+
+@dataclass(frozen=True, slots=True)
+class Version:
+    major: int
+    minor: int
+
+    def __str__(self) -> str:
+        return f"{self.major}.{self.minor}"
+
+
+@dataclass(eq=False)
+class Document:
+    """A loaded file: its bytes, its tree (if it parsed) and what loading found wrong.
+
+    ``problems`` maps a document rule code to its hits. ``declared`` is the version the
+    header states (if readable) and ``effective`` the published version it is checked as.
+    """
+
+    path: str
+    data: bytes
+    tree: etree._ElementTree | None = None
+    problems: dict[str, list[Hit]] = field(default_factory=dict)
+    declared: Version | None = None
+    effective: Version | None = None
+
+    @property
+    def root(self) -> etree._Element | None:
+        return None if self.tree is None else self.tree.getroot()
+
+    @property
+    def is_opendrive(self) -> bool:
+        """True when the tree parsed and its root is an ``OpenDRIVE`` element."""
+        root = self.root
+        return root is not None and root.tag == "OpenDRIVE"
+
+    def report(self, code: str, hit: Hit) -> None:
+        self.problems.setdefault(code, []).append(hit)
+
+    def line_of(self, element: etree._Element) -> int:
+        """The exact line of ``element``'s start tag (where its ``<`` stands)."""
+        return self._start_lines.line_of(element)
+
+    def source_line(self, line: int) -> str | None:
+        """The text of ``line`` (1-based), decoded as the document declares."""
+        lines = self._text_lines
+        return lines[line - 1] if 0 < line <= len(lines) else None
+
+    @cached_property
+    def _text_lines(self) -> list[str]:
+        encoding = self.tree.docinfo.encoding if self.tree is not None else None
+        try:
+            text = self.data.decode(encoding or "utf-8-sig", errors="replace")
+        except LookupError:
+            text = self.data.decode("utf-8", errors="replace")
+        return text.lstrip("\ufeff").replace("\r\n", "\n").split("\n")
+
+    def xpath_of(self, element: etree._Element) -> str:
+        return self._xpaths.path_of(element)
+
+    @cached_property
+    def _start_lines(self) -> _StartTagLines:
+        assert self.tree is not None, "line_of needs a parsed tree"
+        return _StartTagLines(self.data, self.tree.getroot())
+
+    @cached_property
+    def _xpaths(self) -> _ReadableXPaths:
+        return _ReadableXPaths()
+
+
+def load_bytes(data: bytes, path: str) -> Document:
+    """Parse ``data`` (the contents of ``path``) into a :class:`Document`."""
+    doc = Document(path=path, data=data)
+    parser = hardened_parser()
+    try:
+        root = etree.fromstring(data, parser)
+    except etree.XMLSyntaxError as error:
+        doc.report("XS001", _syntax_error_hit(error, parser.error_log))
+        return doc
+    except (ValueError, LookupError) as error:
+        # lxml raises these for input it cannot even hand to libxml2 (an unknown codec).
+        doc.report("XS001", Hit(None, f"cannot read the file as XML: {error}", line=1))
+        return doc
+    if root is None:
+        doc.report("XS001", Hit(None, "the file holds no XML element", line=1))
+        return doc
+    doc.tree = root.getroottree()
+    if etree.QName(root).namespace == ASAM_LEGACY_NAMESPACE:
+        _drop_legacy_namespace(root)
+    if root.tag != "OpenDRIVE":
+        doc.report("XS002", Hit(root, _root_message(root)))
+        return doc
+    _read_header(doc, root)
+    return doc
+
+
+def _syntax_error_hit(error: etree.XMLSyntaxError, log: etree._ListErrorLog) -> Hit:
+    """The first error of this parse: later ones are usually consequences of it.
+
+    The parser's own log is used, not the exception's: lxml's global log also holds
+    errors of earlier parses in the same thread.
+    """
+    entries = list(log.filter_from_errors())
+    if entries:
+        first = entries[0]
+        line, column, message = first.line, first.column, first.message
+    else:
+        line, column = error.position
+        message = error.msg or "not well-formed XML"
+    message = _LIBXML2_POSITION_SUFFIX.sub("", message.strip()).rstrip(".")
+    return Hit(None, _lowercase_first(message), line=max(line, 1), column=column or None)
+
+
+_LIBXML2_POSITION_SUFFIX: Final = re.compile(r",\s*line \d+, column \d+$")
+
+
+def _lowercase_first(text: str) -> str:
+    return text[:1].lower() + text[1:] if text[:2] != text[:2].upper() else text
+
+
+def _drop_legacy_namespace(root: etree._Element) -> None:
+    """Rename elements of ASAM's old namespace to their local names, on the tree only."""
+    prefix = "{" + ASAM_LEGACY_NAMESPACE + "}"
+    for element in root.iter(etree.Element):
+        tag = element.tag
+        if isinstance(tag, str) and tag.startswith(prefix):
+            element.tag = tag[len(prefix) :]
+    etree.cleanup_namespaces(root)
+
+
+def _root_message(root: etree._Element) -> str:
+    qname = etree.QName(root)
+    if qname.namespace:
+        return (
+            f"root element is '{qname.localname}' in namespace '{qname.namespace}', "
+            "expected 'OpenDRIVE' without a namespace"
+        )
+    return f"root element is '{qname.localname}', expected 'OpenDRIVE'"
+
+
+def _read_header(doc: Document, root: etree._Element) -> None:
+    first = next(root.iterchildren(etree.Element), None)
+    if first is None or first.tag != "header":
+        found = "no child element" if first is None else f"'{first.tag}'"
+        doc.report("XS003", Hit(root, f"'OpenDRIVE' must start with 'header', found {found}"))
+        return
+    header = first
+    major = _version_number(doc, header, "revMajor")
+    minor = _version_number(doc, header, "revMinor")
+    if major is None or minor is None:
+        return
+    doc.declared = Version(major, minor)
+    doc.effective = nearest_published(doc.declared)
+    if doc.effective != doc.declared:
+        doc.report(
+            "XS005",
+            Hit(
+                header,
+                f"OpenDRIVE {doc.declared} is not a published version; "
+                f"checked as OpenDRIVE {doc.effective}",
+            ),
+        )
+
+
+def _version_number(doc: Document, header: etree._Element, attribute: str) -> int | None:
+    raw = header.get(attribute)
+    if raw is None:
+        doc.report("XS004", Hit(header, f"'header' has no '{attribute}'"))
+        return None
+    text = raw.strip()
+    if not text.isascii() or not text.isdigit():
+        doc.report(
+            "XS004",
+            Hit(header, f"'header/@{attribute}' is '{raw}', expected a non-negative integer"),
+        )
+        return None
+    return int(text)
+
+
+def parser_line(element: etree._Element) -> int:
+    """libxml2's line for ``element`` (exact below 65,535; where the start tag ends)."""
+    line: object = element.sourceline
+    return line if isinstance(line, int) and line > 0 else 1
+
+
+def nearest_published(version: Version) -> Version:
+    """The published OpenDRIVE version closest to ``version`` (itself if published)."""
+    if version.major < 1:
+        return Version(1, KNOWN_MINORS[0])
+    if version.major > 1:
+        return Version(1, KNOWN_MINORS[-1])
+    minor = min(max(version.minor, KNOWN_MINORS[0]), KNOWN_MINORS[-1])
+    return Version(1, minor)
+
+
+# Start tags, told apart from the markup that may contain a '<' without being one.
+_MARKUP: Final = re.compile(
+    rb"<!--.*?-->|<!\[CDATA\[.*?\]\]>|<\?.*?\?>|<!DOCTYPE[^\[>]*(?:\[.*?\]\s*)?>|<(?=[^/!?])",
+    re.DOTALL,
+)
+
+
+class _StartTagLines:
+    """Exact start-tag lines, read off the bytes.
+
+    libxml2 keeps lines in 16 bits (guessing past 65,535) and reports the line where a
+    start tag *ends*. Scanning the bytes once for start tags, in document order, gives the
+    line of every element's ``<`` exactly; it only runs for files that have findings.
+    """
+
+    def __init__(self, data: bytes, root: etree._Element) -> None:
+        text = _ascii_compatible(data)
+        lines: list[int] = []
+        line, position = 1, 0
+        count = text.count
+        for match in _MARKUP.finditer(text):
+            start = match.start()
+            if match.end() - start == 1:
+                line += count(b"\n", position, start)
+                position = start
+                lines.append(line)
+        elements = root.iter(etree.Element)
+        self._lines: dict[etree._Element, int] = dict(zip(elements, lines, strict=False))
+
+    def line_of(self, element: etree._Element) -> int:
+        line = self._lines.get(element)
+        if line is not None:
+            return line
+        # Only reached for an element the scan could not place (markup it does not
+        # model); libxml2's own figure is the best left.
+        return parser_line(element)
+
+
+def _ascii_compatible(data: bytes) -> bytes:
+    """``data`` in an encoding where '<' and newline are single bytes, lone CRs dropped.
+
+    libxml2 counts "\\r\\n" as one line break and a lone "\\r" as none; the scan does too.
+    """
+    if data[:2] in (b"\xff\xfe", b"\xfe\xff") or (len(data) > 1 and b"\x00" in data[:4]):
+        data = _decode_wide(data).encode("utf-8", "surrogatepass")
+    return data.replace(b"\r\n", b"\n") if b"\r" in data else data
+
+
+def _decode_wide(data: bytes) -> str:
+    for codec in ("utf-32", "utf-16") if data[:4].count(b"\x00") == 3 else ("utf-16",):
+        try:
+            return data.decode(codec)
+        except UnicodeDecodeError:
+            continue
+    head = data[:4]
+    codec = "utf-16-be" if head[:1] == b"\x00" else "utf-16-le"
+    return data.decode(codec, errors="replace")
+
+
+class _ReadableXPaths:
+    """XPaths a person can read: id predicates where elements have ids, positions otherwise.
+
+    A position is only added where siblings share the tag (and id), so that
+    ``road[@id='3']/railroad/switch[@id='31']/partner`` stays stable when other roads
+    are added.
+    """
+
+    def __init__(self) -> None:
+        self._steps: dict[etree._Element, str] = {}
+
+    def path_of(self, element: etree._Element) -> str:
+        steps: list[str] = []
+        node: etree._Element | None = element
+        while node is not None:
+            steps.append(self._step(node))
+            node = node.getparent()
+        return "/" + "/".join(reversed(steps))
+
+    def _step(self, element: etree._Element) -> str:
+        step = self._steps.get(element)
+        if step is None:
+            parent = element.getparent()
+            if parent is None:
+                step = _local_name(element)
+                self._steps[element] = step
+            else:
+                self._name_children(parent)
+                step = self._steps[element]
+        return step
+
+    def _name_children(self, parent: etree._Element) -> None:
+        """Name all children of ``parent`` at once, so each sibling group is scanned once."""
+        children = [(child, _local_name(child)) for child in parent.iterchildren(etree.Element)]
+        per_tag: dict[str, int] = {}
+        per_id: dict[tuple[str, str], int] = {}
+        for child, tag in children:
+            per_tag[tag] = per_tag.get(tag, 0) + 1
+            ident = child.get("id")
+            if ident is not None:
+                per_id[tag, ident] = per_id.get((tag, ident), 0) + 1
+        seen_tag: dict[str, int] = {}
+        seen_id: dict[tuple[str, str], int] = {}
+        for child, tag in children:
+            seen_tag[tag] = seen_tag.get(tag, 0) + 1
+            ident = child.get("id")
+            if ident is not None:
+                key = (tag, ident)
+                seen_id[key] = seen_id.get(key, 0) + 1
+                step = f"{tag}[@id={_xpath_literal(ident)}]"
+                if per_id[key] > 1:
+                    step += f"[{seen_id[key]}]"
+            elif per_tag[tag] > 1:
+                step = f"{tag}[{seen_tag[tag]}]"
+            else:
+                step = tag
+            self._steps[child] = step
+
+
+def _local_name(element: etree._Element) -> str:
+    return etree.QName(element).localname
+
+
+def _xpath_literal(value: str) -> str:
+    if "'" not in value:
+        return f"'{value}'"
+    if '"' not in value:
+        return f'"{value}"'
+    parts = value.split("'")
+    return "concat(" + ', "\'", '.join(f"'{part}'" for part in parts) + ")"

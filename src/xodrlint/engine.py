@@ -1,0 +1,169 @@
+"""Stage 5, engine: decide which rules run, run them, and stamp their hits into findings.
+
+The engine is the one place that knows the rules, the document and the options together:
+it selects rules by code prefix, runs the schema stage when XS006 is selected, builds the
+model once, stamps code, UID, severity, path, line and XPath on every hit, applies the
+one-defect-one-finding policy and sorts.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Final
+
+from xodrlint.document import Document, load_bytes
+from xodrlint.findings import FileReport, Finding, Hit, Severity
+from xodrlint.model import build_network
+from xodrlint.registry import Registry
+from xodrlint.rules import Rule
+from xodrlint.schema import SchemaValidators
+from xodrlint.schemas import Origin, SchemaFinder
+
+SCHEMA_RULE: Final = "XS006"
+#: Findings of these rules mean the file is not an OpenDRIVE tree: nothing else runs.
+FATAL_CODES: Final = frozenset({"XS001", "XS002"})
+DOCUMENT_XPATH: Final = "/"
+
+
+class SelectorError(ValueError):
+    """A ``--select``/``--ignore`` entry that names no rule."""
+
+
+@dataclass(frozen=True)
+class LintOptions:
+    select: tuple[str, ...] = ("ALL",)
+    ignore: tuple[str, ...] = ()
+    severity: Mapping[str, Severity] = field(default_factory=dict)
+    schema: Path | None = None
+    schema_origin: Origin = Origin.OPTION
+    keep_source: bool = False
+    """Attach the text of each finding's line to the report (for ``--show-source``)."""
+
+
+def select_rules(registry: Registry, select: Sequence[str], ignore: Sequence[str]) -> list[Rule]:
+    """The rules ``select`` picks and ``ignore`` does not; the more specific entry wins.
+
+    An entry is ``ALL``, a code prefix (``SW``, ``SW00``, ``SW001``), a rule name or one of
+    a rule's UIDs. When a select and an ignore entry are equally specific, ignore wins.
+    """
+    for token in (*select, *ignore):
+        if not any(_specificity(token, r) is not None for r in registry.rules):
+            raise SelectorError(f"'{token}' matches no rule code, name or UID")
+    chosen = []
+    for candidate in registry.rules:
+        selected = _best(select, candidate)
+        ignored = _best(ignore, candidate)
+        if selected is not None and (ignored is None or selected > ignored):
+            chosen.append(candidate)
+    return chosen
+
+
+def _best(tokens: Iterable[str], candidate: Rule) -> int | None:
+    scores = [s for t in tokens if (s := _specificity(t, candidate)) is not None]
+    return max(scores, default=None)
+
+
+def _specificity(token: str, candidate: Rule) -> int | None:
+    meta = candidate.meta
+    if token.upper() == "ALL":
+        return 0
+    if token in meta.uids or token.lower() == meta.name:
+        return len(meta.code)
+    if token and meta.code.startswith(token.upper()):
+        return len(token)
+    return None
+
+
+class Linter:
+    """Lints documents with one set of options; schemas are compiled once and reused."""
+
+    def __init__(self, registry: Registry, options: LintOptions | None = None) -> None:
+        self.registry = registry
+        self.options = options or LintOptions()
+        self.rules = select_rules(registry, self.options.select, self.options.ignore)
+        self._codes = {r.code for r in self.rules}
+        finder = SchemaFinder(option=self.options.schema, option_origin=self.options.schema_origin)
+        self._validators = SchemaValidators(finder)
+
+    def lint_path(self, path: Path, display: str | None = None) -> FileReport:
+        shown = display or path.as_posix()
+        try:
+            data = path.read_bytes()
+        except OSError as error:
+            return FileReport(shown, error=_os_error(error, shown))
+        return self.lint_bytes(data, shown)
+
+    def lint_bytes(self, data: bytes, path: str) -> FileReport:
+        doc = load_bytes(data, path)
+        problems: dict[str, list[Hit]] = {code: list(hits) for code, hits in doc.problems.items()}
+        schema_label, builtin = None, False
+        fatal = any(code in problems for code in FATAL_CODES)
+        if not fatal and SCHEMA_RULE in self._codes:
+            check = self._validators.check(doc)
+            if check is not None:
+                problems[SCHEMA_RULE] = list(check.hits)
+                schema_label, builtin = check.schema.describe(), check.schema.is_builtin
+        network = build_network(None if fatal else doc.root, problems)
+        stamped: list[_Stamped] = []
+        crashes: list[str] = []
+        for candidate in self.rules:
+            try:
+                hits = list(candidate(network))
+            except Exception as error:  # a rule bug must not hide the other rules' findings
+                crashes.append(f"rule {candidate.code} failed on {path}: {error!r}")
+                continue
+            stamped.extend(self._stamp(doc, candidate, hit) for hit in hits)
+        findings = sorted(_one_defect_one_finding(stamped), key=lambda f: f.sort_key)
+        source: dict[int, str] = {}
+        if self.options.keep_source:
+            for finding in findings:
+                text = doc.source_line(finding.line)
+                if text is not None:
+                    source[finding.line] = text
+        return FileReport(
+            path=path,
+            findings=tuple(findings),
+            source_lines=source,
+            declared_version=str(doc.declared) if doc.declared else None,
+            schema=schema_label,
+            schema_builtin=builtin,
+            internal_errors=tuple(crashes),
+        )
+
+    def _stamp(self, doc: Document, candidate: Rule, hit: Hit) -> _Stamped:
+        meta = candidate.meta
+        if hit.element is not None and doc.tree is not None:
+            line, xpath = doc.line_of(hit.element), doc.xpath_of(hit.element)
+        else:
+            line, xpath = hit.line or 1, DOCUMENT_XPATH
+        severity = self.options.severity.get(meta.code, meta.severity)
+        finding = Finding(
+            path=doc.path,
+            line=line,
+            column=hit.column,
+            code=meta.code,
+            uid=meta.uid,
+            severity=severity,
+            message=hit.message,
+            xpath=xpath,
+        )
+        return _Stamped(finding, hit.deferrable)
+
+
+@dataclass(frozen=True, slots=True)
+class _Stamped:
+    finding: Finding
+    deferrable: bool
+
+
+def _one_defect_one_finding(stamped: list[_Stamped]) -> list[Finding]:
+    """Drop a schema error a specific rule already reports on the same element."""
+    specific = {s.finding.xpath for s in stamped if not s.finding.code.startswith("XS")}
+    return [s.finding for s in stamped if not (s.deferrable and s.finding.xpath in specific)]
+
+
+def _os_error(error: OSError, shown: str) -> str:
+    reason = error.strerror or type(error).__name__
+    return f"{shown}: cannot read: {reason[:1].lower()}{reason[1:]}"

@@ -1,0 +1,138 @@
+"""Findings: the values every stage of the pipeline hands on (hits in, findings out)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from enum import StrEnum
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from lxml import etree
+
+
+class Severity(StrEnum):
+    """How bad a finding is; ordered so that ``ERROR`` ranks highest."""
+
+    ERROR = "error"
+    WARNING = "warning"
+    INFO = "info"
+
+    @property
+    def rank(self) -> int:
+        return _RANK[self]
+
+
+_RANK = {Severity.INFO: 1, Severity.WARNING: 2, Severity.ERROR: 3}
+
+
+@dataclass(frozen=True, slots=True)
+class Hit:
+    """What a rule yields: the element a defect is about and a message.
+
+    ``element`` is ``None`` only where no element exists (a file that does not parse); then
+    ``line`` carries the parser's line. ``deferrable`` marks a schema error that a specific
+    railroad rule reports better (an XSD key, keyref or missing-child error): the engine
+    drops it when such a rule reports on the same element.
+    """
+
+    element: etree._Element | None
+    message: str
+    line: int | None = None
+    column: int | None = None
+    deferrable: bool = False
+
+
+@dataclass(frozen=True, slots=True)
+class Finding:
+    """One reported defect, stamped with everything a report needs."""
+
+    path: str
+    line: int
+    column: int | None
+    code: str
+    uid: str
+    severity: Severity
+    message: str
+    xpath: str
+
+    @property
+    def sort_key(self) -> tuple[str, int, str, int, str]:
+        """Reports list findings by path, line and code (column and message break ties)."""
+        return (self.path, self.line, self.code, self.column or 0, self.message)
+
+    def as_dict(self) -> dict[str, object]:
+        return {
+            "path": self.path,
+            "line": self.line,
+            "column": self.column,
+            "code": self.code,
+            "uid": self.uid,
+            "severity": str(self.severity),
+            "message": self.message,
+            "xpath": self.xpath,
+        }
+
+
+@dataclass(frozen=True, slots=True)
+class RuleMeta:
+    """What reports need to know about a rule, without its code.
+
+    ``doc`` is the rule's doc page (Markdown, from its module docstring); ``summary`` is
+    its first line without the leading code and name.
+    """
+
+    code: str
+    name: str
+    uid: str
+    severity: Severity
+    summary: str
+    doc: str
+    aliases: tuple[str, ...] = ()
+    pack: str = ""
+
+    @property
+    def uids(self) -> tuple[str, ...]:
+        return (self.uid, *self.aliases)
+
+
+@dataclass(frozen=True, slots=True)
+class FileReport:
+    """Everything one file's lint produced, for the formatters.
+
+    ``error`` is set when the input could not be read at all (a missing file, a
+    directory, no permission): that is not a finding but a usage error (exit 2).
+    ``schema`` names the schema the file was validated with, ``None`` when the schema
+    check did not run; ``schema_builtin`` is true when only the built-in railroad schema
+    was available.
+    """
+
+    path: str
+    findings: tuple[Finding, ...] = ()
+    declared_version: str | None = None
+    schema: str | None = None
+    schema_builtin: bool = False
+    error: str | None = None
+    internal_errors: tuple[str, ...] = ()
+    source_lines: Mapping[int, str] = field(default_factory=dict)
+    """The text of each line a finding is on, when the run asked to show source."""
+
+
+@dataclass(frozen=True, slots=True)
+class RunResult:
+    """One invocation's results, in input order, with the rule table and notes."""
+
+    reports: tuple[FileReport, ...]
+    rules: tuple[RuleMeta, ...]
+    tool_version: str
+    notes: tuple[str, ...] = ()
+
+    @property
+    def findings(self) -> tuple[Finding, ...]:
+        return tuple(f for report in self.reports for f in report.findings)
+
+    def count_by_severity(self) -> dict[str, int]:
+        counts = {str(severity): 0 for severity in Severity}
+        for finding in self.findings:
+            counts[str(finding.severity)] += 1
+        return counts

@@ -1,0 +1,52 @@
+"""Stage 6, report: formatters turn a :class:`~xodrlint.findings.RunResult` into output.
+
+Each formatter is a class with a ``render(result, stream)`` method, looked up by name
+here or under the ``xodrlint.formatters`` entry points (the way a plugin adds one).
+Formatters see findings and rule metadata only, never rules or the engine.
+"""
+
+from __future__ import annotations
+
+import importlib
+from importlib.metadata import entry_points
+from typing import Final, Protocol, TextIO
+
+from xodrlint.findings import RunResult
+
+ENTRY_POINT_GROUP: Final = "xodrlint.formatters"
+
+# Imported on use, so a text run never pays for the others.
+BUILTIN: Final = {
+    "text": "xodrlint.formatters.text:TextFormatter",
+    "json": "xodrlint.formatters.json:JsonFormatter",
+}
+
+
+class Formatter(Protocol):
+    def render(self, result: RunResult, stream: TextIO) -> None: ...
+
+
+class FormatterOptions(Protocol):
+    show_source: bool
+    quiet: bool
+
+
+def available() -> list[str]:
+    names = set(BUILTIN)
+    names.update(point.name for point in entry_points(group=ENTRY_POINT_GROUP))
+    return sorted(names)
+
+
+def get_formatter(name: str, *, show_source: bool = False, quiet: bool = False) -> Formatter:
+    """An instance of the formatter ``name``; ``KeyError`` if there is none."""
+    target = BUILTIN.get(name)
+    if target is None:
+        matches = [p for p in entry_points(group=ENTRY_POINT_GROUP) if p.name == name]
+        if not matches:
+            raise KeyError(name)
+        factory = matches[0].load()
+    else:
+        module_name, _, attribute = target.partition(":")
+        factory = getattr(importlib.import_module(module_name), attribute)
+    formatter: Formatter = factory(show_source=show_source, quiet=quiet)
+    return formatter

@@ -1,0 +1,90 @@
+"""The terminal report: findings grouped by file, ``path:line`` first so terminals link it.
+
+Rich draws it; every piece of text goes in as ``Text`` (never markup), so XPath predicates
+like ``[@id='3']`` survive, and lines are never wrapped when the output is piped.
+"""
+
+from __future__ import annotations
+
+from typing import Final, TextIO
+
+from rich.console import Console
+from rich.text import Text
+
+from xodrlint.findings import FileReport, Finding, RunResult, Severity
+
+STYLE: Final = {
+    Severity.ERROR: "bold red",
+    Severity.WARNING: "yellow",
+    Severity.INFO: "cyan",
+}
+
+
+class TextFormatter:
+    def __init__(self, *, show_source: bool = False, quiet: bool = False) -> None:
+        self.show_source = show_source
+        self.quiet = quiet
+
+    def render(self, result: RunResult, stream: TextIO) -> None:
+        console = Console(file=stream, soft_wrap=True, highlight=False, emoji=False)
+        for report in result.reports:
+            if report.findings:
+                self._file(console, report)
+        if not self.quiet:
+            console.print(_summary(result))
+            for note in result.notes:
+                console.print(Text("note: ", style="bold") + Text(note))
+
+    def _file(self, console: Console, report: FileReport) -> None:
+        if not self.quiet:
+            header = Text(report.path, style="bold underline")
+            facts = [f"OpenDRIVE {report.declared_version}"] if report.declared_version else []
+            if report.schema:
+                facts.append(f"schema: {report.schema}")
+            if facts:
+                header.append(f"  ({'; '.join(facts)})", style="dim")
+            console.print(header)
+        for finding in report.findings:
+            console.print(_line(finding))
+            if self.quiet:
+                continue
+            console.print(Text(f"    {finding.xpath}", style="dim"))
+            source = report.source_lines.get(finding.line) if self.show_source else None
+            if source is not None:
+                console.print(Text(f"    {finding.line:>6} | ", style="dim") + Text(source))
+        if not self.quiet:
+            console.print()
+
+
+def _line(finding: Finding) -> Text:
+    location = f"{finding.path}:{finding.line}"
+    if finding.column is not None:
+        location += f":{finding.column}"
+    text = Text(location, style="bold")
+    text.append(": ")
+    text.append(finding.code, style=STYLE[finding.severity])
+    text.append(f" [{finding.severity}] ", style=STYLE[finding.severity])
+    text.append(finding.message)
+    return text
+
+
+def _summary(result: RunResult) -> Text:
+    files = len(result.reports)
+    counts = result.count_by_severity()
+    total = sum(counts.values())
+    unreadable = sum(1 for r in result.reports if r.error)
+    noun = "file" if files == 1 else "files"
+    if total == 0:
+        text = Text(f"All checks passed: {files} {noun}, no findings.", style="green")
+    else:
+        parts = ", ".join(
+            f"{n} {severity}{'s' if n != 1 else ''}" for severity, n in counts.items() if n
+        )
+        with_findings = sum(1 for r in result.reports if r.findings)
+        text = Text(
+            f"Found {total} finding{'s' if total != 1 else ''} ({parts}) "
+            f"in {with_findings} of {files} {noun}."
+        )
+    if unreadable:
+        text.append(f" {unreadable} could not be read.", style="red")
+    return text

@@ -1,0 +1,353 @@
+"""Stage 3, model: one pass over the tree builds the read-only indexes all rules share.
+
+Only the subtrees railroad rules care about are visited (``road/lanes``,
+``road/railroad``, ``station``), so building the model costs a fraction of parsing.
+Attributes are read leniently: a missing or malformed value becomes ``None`` and the
+rules stay silent on it (the schema stage reports the value itself).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Final, TypeVar
+
+from lxml import etree
+
+from xodrlint.findings import Hit
+
+#: Lane types that carry trains or trams.
+RAIL_LANE_TYPES: Final = frozenset({"rail", "tram"})
+
+#: Lane types that carry no traffic, so they may share a road with a rail lane.
+NON_TRAFFIC_LANE_TYPES: Final = frozenset(
+    {"none", "border", "shoulder", "curb", "sidewalk", "walking", "median"}
+)
+
+# xs:double's lexical space; Python's float() also takes "1_0", "infinity" and spaces.
+_XSD_DOUBLE: Final = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?")
+
+
+def number(element: etree._Element, attribute: str) -> float | None:
+    """The finite number in ``attribute``, or ``None`` if absent or not a finite xs:double."""
+    raw = element.get(attribute)
+    if raw is None:
+        return None
+    text = raw.strip()
+    if not _XSD_DOUBLE.fullmatch(text):
+        return None
+    value = float(text)
+    return value if math.isfinite(value) else None
+
+
+def integer(element: etree._Element, attribute: str) -> int | None:
+    raw = element.get(attribute)
+    if raw is None:
+        return None
+    text = raw.strip()
+    sign = text[:1] in "+-" and text[:1] != ""
+    digits = text[1:] if sign else text
+    if not digits.isascii() or not digits.isdigit():
+        return None
+    return int(text)
+
+
+@dataclass(frozen=True, slots=True)
+class Cubic:
+    """``a + b·ds + c·ds² + d·ds³`` from ``start`` on (a ``laneOffset`` or lane ``width``)."""
+
+    element: etree._Element
+    start: float
+    a: float
+    b: float
+    c: float
+    d: float
+
+    def at(self, s: float) -> float:
+        ds = s - self.start
+        return self.a + ds * (self.b + ds * (self.c + ds * self.d))
+
+
+@dataclass(frozen=True, slots=True)
+class Lane:
+    element: etree._Element
+    id: int | None
+    side: str  # "left", "center" or "right"
+    type: str | None
+    widths: tuple[Cubic, ...]
+    """Width entries with ``start`` = ``sOffset`` relative to the lane section; entries
+    with unreadable coefficients are left out."""
+
+    @property
+    def is_rail(self) -> bool:
+        return self.type in RAIL_LANE_TYPES
+
+
+@dataclass(frozen=True, slots=True)
+class LaneSection:
+    element: etree._Element
+    s: float | None
+    lanes: tuple[Lane, ...]
+
+    @property
+    def rail_lanes(self) -> tuple[Lane, ...]:
+        return tuple(lane for lane in self.lanes if lane.is_rail)
+
+
+@dataclass(frozen=True, slots=True)
+class Road:
+    element: etree._Element
+    id: str | None
+    length: float | None
+    lane_sections: tuple[LaneSection, ...]
+    lane_offsets: tuple[Cubic, ...]
+
+    @property
+    def lane_types(self) -> frozenset[str]:
+        return frozenset(
+            lane.type for section in self.lane_sections for lane in section.lanes if lane.type
+        )
+
+    @property
+    def has_rail_lane(self) -> bool:
+        return not self.lane_types.isdisjoint(RAIL_LANE_TYPES)
+
+
+@dataclass(frozen=True, slots=True)
+class TrackRef:
+    """A ``mainTrack`` or ``sideTrack``: a road, a position on it and a direction."""
+
+    element: etree._Element
+    road_id: str | None
+    s: float | None
+    dir: str | None
+
+
+@dataclass(frozen=True, slots=True)
+class PartnerRef:
+    element: etree._Element
+    id: str | None
+    name: str | None
+
+
+@dataclass(frozen=True, slots=True)
+class Switch:
+    element: etree._Element
+    id: str | None
+    name: str | None
+    position: str | None
+    road: Road
+    """The road whose ``railroad`` holds the switch."""
+    main_track: TrackRef | None
+    side_track: TrackRef | None
+    partner: PartnerRef | None
+
+
+@dataclass(frozen=True, slots=True)
+class Segment:
+    element: etree._Element
+    road_id: str | None
+    s_start: float | None
+    s_end: float | None
+    side: str | None
+
+
+@dataclass(frozen=True, slots=True)
+class Platform:
+    element: etree._Element
+    id: str | None
+    name: str | None
+    segments: tuple[Segment, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Station:
+    element: etree._Element
+    id: str | None
+    name: str | None
+    type: str | None
+    platforms: tuple[Platform, ...]
+
+
+_T = TypeVar("_T")
+
+
+def _first_by_id(items: Sequence[_T], key: str) -> Mapping[str, _T]:
+    index: dict[str, _T] = {}
+    for item in items:
+        ident = getattr(item, key)
+        if ident is not None:
+            index.setdefault(ident, item)
+    return MappingProxyType(index)
+
+
+def _group_by(
+    items: Sequence[_T], key_of: Callable[[_T], str | None]
+) -> Mapping[str, tuple[_T, ...]]:
+    groups: dict[str, list[_T]] = {}
+    for item in items:
+        key = key_of(item)
+        if key is not None:
+            groups.setdefault(key, []).append(item)
+    return MappingProxyType({key: tuple(members) for key, members in groups.items()})
+
+
+@dataclass(frozen=True)
+class RailNetwork:
+    """The read-only facts of one file that rules query.
+
+    ``problems`` holds the hits the load and schema stages found, by document rule code;
+    the document rules (XS) report them. Every index is built once, in document order;
+    ``*_by_id`` maps keep the first element with an id (duplicates are a rule's business).
+    """
+
+    roads: tuple[Road, ...] = ()
+    switches: tuple[Switch, ...] = ()
+    stations: tuple[Station, ...] = ()
+    problems: Mapping[str, Sequence[Hit]] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "road_by_id", _first_by_id(self.roads, "id"))
+        object.__setattr__(self, "switch_by_id", _first_by_id(self.switches, "id"))
+        object.__setattr__(
+            self,
+            "switches_by_side_track",
+            _group_by(self.switches, lambda sw: sw.side_track and sw.side_track.road_id),
+        )
+        object.__setattr__(
+            self,
+            "switches_by_main_track",
+            _group_by(self.switches, lambda sw: sw.main_track and sw.main_track.road_id),
+        )
+
+    road_by_id: Mapping[str, Road] = field(init=False, repr=False)
+    switch_by_id: Mapping[str, Switch] = field(init=False, repr=False)
+    switches_by_side_track: Mapping[str, tuple[Switch, ...]] = field(init=False, repr=False)
+    """Switches in document order, by the road their ``sideTrack`` names."""
+    switches_by_main_track: Mapping[str, tuple[Switch, ...]] = field(init=False, repr=False)
+    """Switches in document order, by the road their ``mainTrack`` names."""
+
+    @property
+    def platforms(self) -> Iterable[Platform]:
+        return (platform for station in self.stations for platform in station.platforms)
+
+    @property
+    def segments(self) -> Iterable[Segment]:
+        return (segment for platform in self.platforms for segment in platform.segments)
+
+
+def build_network(
+    root: etree._Element | None, problems: Mapping[str, Sequence[Hit]] | None = None
+) -> RailNetwork:
+    """Build the model of an ``OpenDRIVE`` root; ``None`` gives an empty network."""
+    frozen_problems = MappingProxyType(dict(problems or {}))
+    if root is None or root.tag != "OpenDRIVE":
+        return RailNetwork(problems=frozen_problems)
+    roads: list[Road] = []
+    switches: list[Switch] = []
+    stations: list[Station] = []
+    for child in root.iterchildren("road", "station"):
+        if child.tag == "road":
+            road = _read_road(child)
+            roads.append(road)
+            switches.extend(_read_switches(child, road))
+        else:
+            stations.append(_read_station(child))
+    return RailNetwork(tuple(roads), tuple(switches), tuple(stations), frozen_problems)
+
+
+def _read_road(element: etree._Element) -> Road:
+    sections: list[LaneSection] = []
+    offsets: list[Cubic] = []
+    for lanes in element.iterchildren("lanes"):
+        offsets.extend(_cubics(lanes.iterchildren("laneOffset"), "s"))
+        sections.extend(
+            _read_lane_section(section) for section in lanes.iterchildren("laneSection")
+        )
+    return Road(
+        element=element,
+        id=element.get("id"),
+        length=number(element, "length"),
+        lane_sections=tuple(sections),
+        lane_offsets=tuple(offsets),
+    )
+
+
+def _read_lane_section(element: etree._Element) -> LaneSection:
+    lanes = [
+        Lane(
+            element=lane,
+            id=integer(lane, "id"),
+            side=side.tag,
+            type=lane.get("type"),
+            widths=_cubics(lane.iterchildren("width"), "sOffset"),
+        )
+        for side in element.iterchildren("left", "center", "right")
+        for lane in side.iterchildren("lane")
+    ]
+    return LaneSection(element=element, s=number(element, "s"), lanes=tuple(lanes))
+
+
+def _cubics(entries: Iterable[etree._Element], start_attribute: str) -> tuple[Cubic, ...]:
+    cubics: list[Cubic] = []
+    for entry in entries:
+        values = [number(entry, name) for name in (start_attribute, "a", "b", "c", "d")]
+        start, a, b, c, d = values
+        if start is None or a is None or b is None or c is None or d is None:
+            continue
+        cubics.append(Cubic(entry, start, a, b, c, d))
+    return tuple(cubics)
+
+
+def _read_switches(road_element: etree._Element, road: Road) -> list[Switch]:
+    return [
+        Switch(
+            element=switch,
+            id=switch.get("id"),
+            name=switch.get("name"),
+            position=switch.get("position"),
+            road=road,
+            main_track=_track(switch.find("mainTrack")),
+            side_track=_track(switch.find("sideTrack")),
+            partner=_partner(switch.find("partner")),
+        )
+        for railroad in road_element.iterchildren("railroad")
+        for switch in railroad.iterchildren("switch")
+    ]
+
+
+def _track(element: etree._Element | None) -> TrackRef | None:
+    if element is None:
+        return None
+    return TrackRef(element, element.get("id"), number(element, "s"), element.get("dir"))
+
+
+def _partner(element: etree._Element | None) -> PartnerRef | None:
+    if element is None:
+        return None
+    return PartnerRef(element, element.get("id"), element.get("name"))
+
+
+def _read_station(element: etree._Element) -> Station:
+    platforms = tuple(
+        Platform(
+            element=platform,
+            id=platform.get("id"),
+            name=platform.get("name"),
+            segments=tuple(
+                Segment(
+                    element=segment,
+                    road_id=segment.get("roadId"),
+                    s_start=number(segment, "sStart"),
+                    s_end=number(segment, "sEnd"),
+                    side=segment.get("side"),
+                )
+                for segment in platform.iterchildren("segment")
+            ),
+        )
+        for platform in element.iterchildren("platform")
+    )
+    return Station(element, element.get("id"), element.get("name"), element.get("type"), platforms)

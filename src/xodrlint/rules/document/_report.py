@@ -1,0 +1,12 @@
+"""What every document rule does: hand on the stage's hits for its code."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from xodrlint.findings import Hit
+from xodrlint.model import RailNetwork
+
+
+def stage_hits(network: RailNetwork, code: str) -> Iterator[Hit]:
+    yield from network.problems.get(code, ())

@@ -1,0 +1,247 @@
+"""Stage 2, schema: validate a document against the XSD of its version.
+
+OpenDRIVE 1.1 to 1.7 schemas are XSD 1.0 and run in libxml2; 1.8 and 1.9 are XSD 1.1 and
+run in xmlschema (imported only then). Without an official schema, the built-in railroad
+schema checks each ``road/railroad`` and ``station`` subtree. Every validator error
+becomes one XS006 hit on the element it is about, with a message from ``xsd_messages``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Final, Protocol
+
+from lxml import etree
+
+from xodrlint.document import Document, parser_line
+from xodrlint.findings import Hit
+from xodrlint.schemas import SchemaFinder, SchemaLoadError, SchemaSet
+from xodrlint.xsd_messages import (
+    DEFERRABLE_KINDS,
+    XS,
+    Explained,
+    TypeCatalog,
+    explain_libxml2,
+)
+
+#: Railroad content appeared in OpenDRIVE 1.4.
+FIRST_RAILROAD_MINOR: Final = 4
+
+
+@dataclass(frozen=True, slots=True)
+class SchemaCheck:
+    schema: SchemaSet
+    hits: tuple[Hit, ...]
+
+
+class Validator(Protocol):
+    def hits(self, doc: Document) -> Iterator[Hit]: ...
+
+
+class SchemaValidators:
+    """Finds and compiles schemas once per process (per worker in batch mode)."""
+
+    def __init__(self, finder: SchemaFinder) -> None:
+        self._finder = finder
+        self._compiled: dict[tuple[Path, bool], Validator] = {}
+
+    def schema_for(self, doc: Document) -> SchemaSet | None:
+        if doc.effective is None:
+            return None
+        return self._finder.find(doc.effective.major, doc.effective.minor)
+
+    def check(self, doc: Document) -> SchemaCheck | None:
+        """Validate ``doc``; ``None`` when it has no readable version to pick a schema by."""
+        schema = self.schema_for(doc)
+        if schema is None or doc.tree is None:
+            return None
+        validator = self._validator(schema)
+        return SchemaCheck(schema, tuple(validator.hits(doc)))
+
+    def _validator(self, schema: SchemaSet) -> Validator:
+        key = (schema.entry, schema.is_builtin)
+        validator = self._compiled.get(key)
+        if validator is None:
+            if schema.is_builtin:
+                validator = BuiltinRailroadValidator(schema)
+            elif schema.is_xsd11:
+                from xodrlint.xsd11 import Xsd11Validator  # xmlschema is slow to import
+
+                validator = Xsd11Validator(schema.entry)
+            else:
+                validator = Libxml2Validator(schema.entry)
+            self._compiled[key] = validator
+        return validator
+
+
+def _schema_parser() -> etree.XMLParser:
+    # Schemas come from the user's disk; they may include their siblings but never reach
+    # the network or expand entities.
+    return etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False)
+
+
+def read_schema_documents(entry: Path) -> list[etree._ElementTree]:
+    """The entry XSD and every file it includes or imports, each parsed once."""
+    documents: list[etree._ElementTree] = []
+    pending, seen = [entry.resolve()], set()
+    while pending:
+        path = pending.pop()
+        if path in seen:
+            continue
+        seen.add(path)
+        try:
+            document = etree.parse(str(path), _schema_parser())
+        except (OSError, etree.XMLSyntaxError) as error:
+            raise SchemaLoadError(f"cannot read schema {path}: {error}") from error
+        documents.append(document)
+        for reference in document.getroot().iterchildren(f"{{{XS}}}include", f"{{{XS}}}import"):
+            location = reference.get("schemaLocation")
+            if location and "://" not in location:
+                pending.append((path.parent / location).resolve())
+    return documents
+
+
+def fix_known_schema_bugs(schema_root: etree._Element) -> None:
+    """Repair published schema bugs in memory, recognised by structure, not by file name.
+
+    OpenDRIVE 1.5M declares ``mainTrack/@id`` and ``sideTrack/@id`` as references to
+    *switch* ids; they name roads, so every correct file with switches would fail. The
+    keyrefs are pointed at the road key, which is what the standard means.
+    """
+    keys = {_selector(key): key.get("name") for key in schema_root.iter(f"{{{XS}}}key")}
+    road_key = keys.get("road")
+    switch_key = keys.get("road/railroad/switch")
+    if road_key is None or switch_key is None:
+        return
+    for keyref in schema_root.iter(f"{{{XS}}}keyref"):
+        track = _selector(keyref)
+        if keyref.get("refer") == switch_key and track in (
+            "road/railroad/switch/mainTrack",
+            "road/railroad/switch/sideTrack",
+        ):
+            keyref.set("refer", road_key)
+
+
+def _selector(identity: etree._Element) -> str:
+    selector = identity.find(f"{{{XS}}}selector")
+    return "" if selector is None else (selector.get("xpath") or "").strip()
+
+
+class Libxml2Validator:
+    """An XSD 1.0 schema set compiled by libxml2."""
+
+    def __init__(self, entry: Path) -> None:
+        documents = read_schema_documents(entry)
+        fix_known_schema_bugs(documents[0].getroot())
+        self.catalog = TypeCatalog.from_documents(d.getroot() for d in documents)
+        try:
+            self._schema = etree.XMLSchema(documents[0])
+        except etree.XMLSchemaParseError as error:
+            raise SchemaLoadError(f"cannot compile schema {entry}: {error}") from error
+
+    def hits(self, doc: Document) -> Iterator[Hit]:
+        assert doc.tree is not None
+        self._schema.validate(doc.tree)
+        yield from errors_to_hits(doc, self._schema.error_log, self.catalog, doc.tree.getroot())
+
+
+class BuiltinRailroadValidator:
+    """Our railroad schema, applied to each ``road/railroad`` and ``station`` subtree."""
+
+    def __init__(self, schema: SchemaSet) -> None:
+        self._minor = schema.version[1] if schema.version else FIRST_RAILROAD_MINOR
+        self._inner = Libxml2Validator(schema.entry)
+
+    def hits(self, doc: Document) -> Iterator[Hit]:
+        root = doc.root
+        assert root is not None
+        subtrees = [
+            rr for road in root.iterchildren("road") for rr in road.iterchildren("railroad")
+        ]
+        subtrees += list(root.iterchildren("station"))
+        if self._minor < FIRST_RAILROAD_MINOR and doc.effective is not None:
+            for subtree in subtrees:
+                yield Hit(
+                    subtree,
+                    f"'{subtree.tag}' does not exist in OpenDRIVE {doc.effective}; "
+                    "railroad content starts with OpenDRIVE 1.4",
+                )
+            return
+        schema = self._inner._schema
+        for subtree in subtrees:
+            if not schema.validate(subtree):
+                yield from errors_to_hits(doc, schema.error_log, self._inner.catalog, subtree)
+
+
+def errors_to_hits(
+    doc: Document,
+    log: etree._ListErrorLog,
+    catalog: TypeCatalog,
+    validation_root: etree._Element,
+) -> Iterator[Hit]:
+    """One hit per libxml2 error, on the element it is about."""
+    version = str(doc.declared) if doc.declared else None
+    locator = _ElementLocator(validation_root)
+    explained: list[tuple[Explained, etree._Element | None, int]] = []
+    for entry in log:
+        why = explain_libxml2(entry.message, catalog, version)
+        element = locator.find(entry.path, why, entry.line)
+        explained.append((why, element, entry.line))
+    # A missing keyed attribute is one defect: libxml2 reports it twice (required, and
+    # "not all fields of key ... evaluate to a node"); keep the first.
+    missing = {id(el) for why, el, _ in explained if why.kind == "required" and el is not None}
+    for why, element, line in explained:
+        if why.kind == "key_field" and element is not None and id(element) in missing:
+            continue
+        yield Hit(
+            element,
+            why.message,
+            line=None if element is not None else line,
+            deferrable=why.kind in DEFERRABLE_KINDS,
+        )
+
+
+class _ElementLocator:
+    """Find the element a libxml2 error is about: by its path, else by name, line and key."""
+
+    def __init__(self, validation_root: etree._Element) -> None:
+        self._root = validation_root
+        self._by_tag_line: dict[tuple[str, int], list[etree._Element]] | None = None
+
+    def find(self, path: str | None, why: Explained, line: int) -> etree._Element | None:
+        if path:
+            found = self._by_path(path)
+            if found is not None:
+                return found
+        if why.element is None:
+            return None
+        candidates = self._index().get((why.element, line), [])
+        for candidate in candidates:
+            values = set(candidate.attrib.values())
+            if all(value in values for value in why.key_values):
+                return candidate
+        return candidates[0] if candidates else None
+
+    def _by_path(self, path: str) -> etree._Element | None:
+        # libxml2 paths start at the validation root: "/OpenDRIVE/road[1]/type" for a
+        # whole document, "/railroad/switch" for a subtree.
+        steps = path.strip("/").split("/", 1)
+        if not steps[0]:
+            return None
+        try:
+            found = self._root.xpath(steps[1]) if len(steps) > 1 else [self._root]
+        except etree.XPathError:
+            return None
+        first = found[0] if isinstance(found, list) and found else None
+        return first if isinstance(first, etree._Element) else None
+
+    def _index(self) -> dict[tuple[str, int], list[etree._Element]]:
+        if self._by_tag_line is None:
+            index: dict[tuple[str, int], list[etree._Element]] = {}
+            for element in self._root.iter(etree.Element):
+                key = (etree.QName(element).localname, parser_line(element))
+                index.setdefault(key, []).append(element)
+            self._by_tag_line = index
+        return self._by_tag_line

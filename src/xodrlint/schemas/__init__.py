@@ -1,0 +1,203 @@
+"""Where the XSD for a declared OpenDRIVE version comes from.
+
+The official ASAM schemas are not ours to ship. They are looked for, in this order, in
+``--schema`` (or ``schema`` in the config), ``XODRLINT_SCHEMA_PATH``, and the user data
+folder that ``xodrlint schemas add|fetch`` fills; when none has the version, the
+built-in railroad schema (written by us, ``builtin/``) checks the railroad subtrees.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass
+from enum import StrEnum
+from pathlib import Path
+from typing import Final
+
+from platformdirs import user_data_path
+
+SCHEMA_PATH_ENV: Final = "XODRLINT_SCHEMA_PATH"
+BUILTIN_DIR: Final = Path(__file__).parent / "builtin"
+
+# A top-level declaration of the OpenDRIVE element marks a schema set's entry file.
+_DECLARES_ROOT: Final = re.compile(rb"<(?:\w+:)?element\s+(?:[^>]*\s)?name=\"OpenDRIVE\"")
+_VERSION_DIR: Final = re.compile(r"^v?(\d+)\.(\d+)(?:\.(\d+))?[A-Za-z]?$")
+_VERSION_IN_NAME: Final = re.compile(r"(?:^|[_\-\s])(\d)[._](\d)(?:[._](\d))?[A-Za-z]?(?:[_\-.]|$)")
+_VERSION_IN_TEXT: Final = re.compile(rb"OpenDRIVE\s+V?(\d)\.(\d)(?:\.(\d))?")
+_SHORT_NAME: Final = re.compile(r"opendrive_(\d)(\d)_core", re.IGNORECASE)
+
+
+class SchemaLoadError(Exception):
+    """A schema file that cannot be read or compiled: a set-up error, not a finding."""
+
+
+class Origin(StrEnum):
+    """Where a schema was found, as the report names it."""
+
+    OPTION = "--schema"
+    CONFIG = "config"
+    ENVIRONMENT = SCHEMA_PATH_ENV
+    USER_DATA = "user data"
+    BUILTIN = "built-in"
+
+
+@dataclass(frozen=True, slots=True)
+class SchemaSet:
+    """One set of XSDs for one OpenDRIVE version (or for any, when ``version`` is None)."""
+
+    entry: Path
+    version: tuple[int, int, int] | None
+    origin: Origin
+
+    @property
+    def is_builtin(self) -> bool:
+        return self.origin is Origin.BUILTIN
+
+    @property
+    def is_xsd11(self) -> bool:
+        """OpenDRIVE 1.8 and later use XSD 1.1 (assertions, type alternatives)."""
+        if self.version is not None:
+            return self.version >= (1, 8, 0)
+        return b'vc:minVersion="1.1"' in self.entry.read_bytes()[:4096]
+
+    @property
+    def label(self) -> str:
+        if self.is_builtin and self.version is not None:
+            return f"built-in railroad schema for OpenDRIVE {self.version[0]}.{self.version[1]}"
+        version = ".".join(map(str, self.version)) if self.version else "any version"
+        return f"OpenDRIVE {version} schema"
+
+    def describe(self) -> str:
+        if self.is_builtin:
+            return f"{self.label} (railroad elements only)"
+        return f"{self.label} ({self.entry}, from {self.origin})"
+
+
+def user_schema_dir() -> Path:
+    """The user data folder ``xodrlint schemas add|fetch`` fills."""
+    override = os.environ.get("XODRLINT_DATA_DIR")
+    base = Path(override) if override else user_data_path("xodrlint", appauthor=False)
+    return base / "schemas"
+
+
+@dataclass(frozen=True)
+class SchemaFinder:
+    """Looks up schema sets in the documented order; one per run, results cached."""
+
+    option: Path | None = None
+    option_origin: Origin = Origin.OPTION
+    environment: Mapping[str, str] | None = None
+    data_dir: Path | None = None
+
+    def locations(self) -> Iterator[tuple[Path, Origin]]:
+        if self.option is not None:
+            yield self.option, self.option_origin
+        env = os.environ if self.environment is None else self.environment
+        for part in env.get(SCHEMA_PATH_ENV, "").split(os.pathsep):
+            if part.strip():
+                yield Path(part.strip()).expanduser(), Origin.ENVIRONMENT
+        yield (self.data_dir or user_schema_dir()), Origin.USER_DATA
+
+    def find(self, major: int, minor: int) -> SchemaSet:
+        """The official set for ``major.minor`` (newest patch), else the built-in one."""
+        for location, origin in self.locations():
+            found = find_in(location, major, minor, origin)
+            if found is not None:
+                return found
+        return builtin_set(major, minor)
+
+    def official_sets(self) -> Iterator[SchemaSet]:
+        """Every official set any location offers, for ``xodrlint schemas list``."""
+        for location, origin in self.locations():
+            yield from _sets_in(location, origin)
+
+
+def find_in(location: Path, major: int, minor: int, origin: Origin) -> SchemaSet | None:
+    if location.is_file():
+        return SchemaSet(_real(location), None, origin)
+    best: SchemaSet | None = None
+    for candidate in _sets_in(location, origin):
+        if candidate.version is None:
+            return candidate  # a folder holding one set serves every version
+        if candidate.version[:2] == (major, minor) and (
+            best is None or (best.version or ()) < candidate.version
+        ):
+            best = candidate
+    return best
+
+
+def _sets_in(location: Path, origin: Origin) -> Iterator[SchemaSet]:
+    if location.is_file():
+        yield SchemaSet(_real(location), None, origin)
+        return
+    if not location.is_dir():
+        return
+    subfolders = sorted(p for p in location.iterdir() if p.is_dir() and _VERSION_DIR.match(p.name))
+    if not subfolders:
+        entry = entry_xsd(location)
+        if entry is not None:
+            yield SchemaSet(entry, None, origin)
+        return
+    for folder in subfolders:
+        entry = entry_xsd(folder)
+        if entry is not None:
+            yield SchemaSet(entry, _version_of_folder(folder.name), origin)
+
+
+def entry_xsd(folder: Path) -> Path | None:
+    """The XSD of ``folder`` that declares the ``OpenDRIVE`` element."""
+    for candidate in sorted(folder.glob("*.xsd")):
+        try:
+            head = candidate.read_bytes()
+        except OSError:
+            continue
+        if _DECLARES_ROOT.search(head):
+            return _real(candidate)
+    return None
+
+
+def _version_of_folder(name: str) -> tuple[int, int, int]:
+    match = _VERSION_DIR.match(name)
+    assert match is not None
+    return int(match[1]), int(match[2]), int(match[3] or 0)
+
+
+def version_of_set(entry: Path) -> tuple[int, int, int] | None:
+    """Guess a schema set's version from its folder, file name or ASAM's header comment."""
+    folder = _VERSION_DIR.match(entry.parent.name)
+    if folder:
+        return _version_of_folder(entry.parent.name)
+    short = _SHORT_NAME.search(entry.name)
+    if short:
+        return int(short[1]), int(short[2]), 0
+    named = _VERSION_IN_NAME.search(entry.stem)
+    if named:
+        return int(named[1]), int(named[2]), int(named[3] or 0)
+    text = _VERSION_IN_TEXT.search(entry.read_bytes()[:2048])
+    if text:
+        return int(text[1]), int(text[2]), int(text[3] or 0)
+    return None
+
+
+# The built-in railroad schema files, by the first minor version each covers.
+_BUILTIN_FILES: Final = {
+    4: "railroad-1.4.xsd",
+    5: "railroad-1.5.xsd",
+    6: "railroad-1.6.xsd",
+    7: "railroad-1.7.xsd",
+    8: "railroad-1.8.xsd",
+}
+
+
+def builtin_set(major: int, minor: int) -> SchemaSet:
+    """Our own railroad schema for ``major.minor`` (railroad content starts in 1.4)."""
+    first = max((m for m in _BUILTIN_FILES if m <= minor), default=min(_BUILTIN_FILES))
+    return SchemaSet(BUILTIN_DIR / _BUILTIN_FILES[first], (major, minor, 0), Origin.BUILTIN)
+
+
+def _real(path: Path) -> Path:
+    # libxml2 resolves xs:include relative to the including file's URL; a path with '..'
+    # makes the 1.6/1.7 sets include their core twice, so always use the real path.
+    return Path(os.path.realpath(path))

@@ -1,0 +1,141 @@
+"""Stage 2 for OpenDRIVE 1.8 and later: XSD 1.1 validation with xmlschema.
+
+Imported only when a 1.8/1.9 file meets an official schema: xmlschema takes a while to
+import and to build a schema. Its errors are mapped to the same XS006 hits as libxml2's:
+identity-constraint errors, which xmlschema reports on the element that declares the
+constraint, are moved to each element whose value is missing or repeated.
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any, Final
+
+import xmlschema
+from lxml import etree
+
+from xodrlint.document import Document
+from xodrlint.findings import Hit
+from xodrlint.schemas import SchemaLoadError
+from xodrlint.xsd_messages import quoted_list
+
+_KEY_NOT_FOUND: Final = re.compile(r"value (?P<v>\(.*\)) not found for \w+\(name='(?P<k>[^']+)'\)")
+_DUPLICATE: Final = re.compile(r"duplicated value (?P<v>\(.*\)) for \w+\(name='(?P<k>[^']+)'\)")
+_ENUMERATION: Final = re.compile(
+    r"^attribute (?P<a>[\w:]+)='(?P<v>.*)': value must be one of \[(?P<e>.*)\]$"
+)
+_ATTRIBUTE_VALUE: Final = re.compile(r"^attribute (?P<a>[\w:]+)='(?P<v>.*)': (?P<why>.*)$")
+_MISSING_ATTRIBUTE: Final = re.compile(r"^missing required attribute '(?P<a>[^']+)'$")
+
+
+class Xsd11Validator:
+    def __init__(self, entry: Path) -> None:
+        try:
+            self._schema = xmlschema.XMLSchema11(
+                str(entry), base_url=str(entry.parent), allow="sandbox", defuse="always"
+            )
+        except (xmlschema.XMLSchemaException, OSError) as error:
+            raise SchemaLoadError(f"cannot compile schema {entry}: {error}") from error
+
+    def hits(self, doc: Document) -> Iterator[Hit]:
+        assert doc.tree is not None
+        root = doc.tree.getroot()
+        missing: set[int] = set()
+        for error in self._schema.iter_errors(doc.tree):
+            element = error.elem if isinstance(error.elem, etree._Element) else None
+            reason = str(error.reason or error.message)
+            identity = _KEY_NOT_FOUND.search(reason) or _DUPLICATE.search(reason)
+            if identity is not None:
+                yield from self._identity_hits(root, identity, duplicate="duplicated" in reason)
+                continue
+            if reason.startswith("missing key field"):
+                if element is not None and id(element) in missing:
+                    continue
+            elif element is not None and _MISSING_ATTRIBUTE.match(reason):
+                missing.add(id(element))
+            yield Hit(element, _message(element, reason), line=None if element is not None else 1)
+
+    def _identity_hits(
+        self, root: etree._Element, match: re.Match[str], *, duplicate: bool
+    ) -> Iterator[Hit]:
+        values = _tuple(match["v"])
+        key = match["k"]
+        for name, constraint in self._constraints():
+            refers = getattr(getattr(constraint, "refer", None), "name", None)
+            if duplicate and name != key:
+                continue
+            if not duplicate and refers != key:
+                continue
+            seen = False
+            for element, field_values in _selected(root, constraint):
+                if field_values != values:
+                    continue
+                if duplicate and not seen:
+                    seen = True
+                    continue
+                where = f"'{etree.QName(element).localname}'"
+                shown = quoted_list(list(values))
+                message = (
+                    f"{where} repeats the key {shown} of '{name}'"
+                    if duplicate
+                    else f"{where} refers to {shown}, which no element of '{key}' defines"
+                )
+                yield Hit(element, message, deferrable=True)
+
+    def _constraints(self) -> Iterator[tuple[str, Any]]:
+        for name, constraint in self._schema.identities.items():
+            yield str(getattr(constraint, "local_name", None) or name), constraint
+
+
+def _tuple(text: str) -> tuple[str, ...]:
+    try:
+        value = ast.literal_eval(text)
+    except (ValueError, SyntaxError):
+        return ()
+    return tuple(str(v) for v in value) if isinstance(value, tuple) else (str(value),)
+
+
+def _selected(
+    root: etree._Element, constraint: Any
+) -> Iterator[tuple[etree._Element, tuple[str, ...]]]:
+    """Elements a key or keyref selects, with their field values, under every holder."""
+    holder_name = getattr(getattr(constraint, "parent", None), "local_name", None)
+    holders = [root] if holder_name in (None, root.tag) else list(root.iter(holder_name))
+    selector = constraint.selector.path
+    fields = [field.path for field in constraint.fields]
+    for holder in holders:
+        selected = holder.xpath(selector)
+        for element in selected if isinstance(selected, list) else ():
+            if not isinstance(element, etree._Element):
+                continue
+            values: list[str] = []
+            for path in fields:
+                found = element.xpath(path)
+                values.append(str(found[0]) if isinstance(found, list) and found else "")
+            yield element, tuple(values)
+
+
+def _message(element: etree._Element | None, reason: str) -> str:
+    tag = etree.QName(element).localname if element is not None else "the document"
+    enumeration = _ENUMERATION.match(reason)
+    if enumeration:
+        allowed = re.findall(r"'((?:[^'\\]|\\.)*)'", enumeration["e"])
+        return (
+            f"'{tag}/@{enumeration['a']}' is '{enumeration['v']}', "
+            f"expected one of {quoted_list(allowed)}"
+        )
+    missing = _MISSING_ATTRIBUTE.match(reason)
+    if missing:
+        return f"'{tag}' lacks the required attribute '{missing['a']}'"
+    value = _ATTRIBUTE_VALUE.match(reason)
+    if value:
+        return f"'{tag}/@{value['a']}' is '{value['v']}': {_sentence(value['why'])}"
+    return f"'{tag}': {_sentence(reason)}"
+
+
+def _sentence(text: str) -> str:
+    text = text.strip().rstrip(".")
+    return text[:1].lower() + text[1:]

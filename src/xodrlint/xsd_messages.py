@@ -1,0 +1,296 @@
+"""Turn XSD validator messages into messages a map engineer understands.
+
+libxml2 and xmlschema word their errors for schema authors ("is not a valid value of the
+union type 'e_countryCode'"). Here each becomes: which element and attribute, the bad
+value, and what the schema allows, read off the schema's own type definitions.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from typing import Final
+
+from lxml import etree
+
+XS: Final = "http://www.w3.org/2001/XMLSchema"
+_ENUM_SHOWN: Final = 12
+
+_BUILTIN_TYPES: Final = {
+    "double": "a number",
+    "float": "a number",
+    "decimal": "a decimal number",
+    "integer": "an integer",
+    "int": "an integer",
+    "long": "an integer",
+    "short": "an integer",
+    "nonNegativeInteger": "an integer >= 0",
+    "positiveInteger": "an integer > 0",
+    "unsignedShort": "an integer from 0 to 65535",
+    "unsignedInt": "an integer >= 0",
+    "boolean": "'true' or 'false'",
+    "string": "a string",
+    "dateTime": "a date and time (YYYY-MM-DDThh:mm:ss)",
+}
+
+
+@dataclass(frozen=True)
+class TypeCatalog:
+    """The named simple types of a schema set, for saying what a type allows."""
+
+    types: Mapping[str, etree._Element]
+    identities: Mapping[str, etree._Element] = field(default_factory=dict)
+
+    @classmethod
+    def from_documents(cls, documents: Iterable[etree._Element]) -> TypeCatalog:
+        types: dict[str, etree._Element] = {}
+        identities: dict[str, etree._Element] = {}
+        for document in documents:
+            for simple in document.iter(f"{{{XS}}}simpleType"):
+                name = simple.get("name")
+                if name:
+                    types.setdefault(name, simple)
+            for identity in document.iter(f"{{{XS}}}key", f"{{{XS}}}keyref", f"{{{XS}}}unique"):
+                name = identity.get("name")
+                if name:
+                    identities.setdefault(name, identity)
+        return cls(types, identities)
+
+    def referenced(self, keyref_name: str) -> tuple[str, str] | None:
+        """For a keyref, the elements (selector) and attribute (field) it must match."""
+        keyref = self.identities.get(keyref_name)
+        if keyref is None:
+            return None
+        refer = keyref.get("refer")
+        key = keyref if refer is None else self.identities.get(refer.rpartition(":")[2])
+        if key is None:
+            return None
+        selector = key.find(f"{{{XS}}}selector")
+        fields = [f.get("xpath", "") for f in key.iterfind(f"{{{XS}}}field")]
+        if selector is None or not fields:
+            return None
+        return (selector.get("xpath", "").strip(), " and ".join(fields))
+
+    def describe(self, type_name: str, depth: int = 0) -> str | None:
+        """What values ``type_name`` accepts, in words; ``None`` if unknown."""
+        local = type_name.rpartition(":")[2]
+        if local in _BUILTIN_TYPES and local not in self.types:
+            return _BUILTIN_TYPES[local]
+        simple = self.types.get(local)
+        if simple is None or depth > 4:
+            return None
+        return self._describe_simple(simple, depth)
+
+    def _describe_simple(self, simple: etree._Element, depth: int) -> str | None:
+        union = simple.find(f"{{{XS}}}union")
+        if union is not None:
+            members = (union.get("memberTypes") or "").split()
+            parts = [self.describe(member, depth + 1) for member in members]
+            parts += [
+                self._describe_simple(inline, depth + 1)
+                for inline in union.iterfind(f"{{{XS}}}simpleType")
+            ]
+            known = [part for part in parts if part]
+            return " or ".join(known) if known else None
+        restriction = simple.find(f"{{{XS}}}restriction")
+        if restriction is None:
+            return None
+        return self._describe_restriction(restriction, depth)
+
+    def _describe_restriction(self, restriction: etree._Element, depth: int) -> str | None:
+        enumeration = [e.get("value", "") for e in restriction.iterfind(f"{{{XS}}}enumeration")]
+        if enumeration:
+            return "one of " + quoted_list(enumeration)
+        patterns = [p.get("value", "") for p in restriction.iterfind(f"{{{XS}}}pattern")]
+        if patterns:
+            return " or ".join(f"a value matching {p}" for p in patterns)
+        base = self.describe(restriction.get("base", ""), depth + 1) or "a value"
+        bounds = [
+            f"{symbol} {facet.get('value')}"
+            for tag, symbol in (
+                ("minInclusive", ">="),
+                ("minExclusive", ">"),
+                ("maxInclusive", "<="),
+                ("maxExclusive", "<"),
+            )
+            for facet in restriction.iterfind(f"{{{XS}}}{tag}")
+        ]
+        return f"{base} {' and '.join(bounds)}" if bounds else base
+
+
+def quoted_list(values: list[str]) -> str:
+    shown = ", ".join(f"'{value}'" for value in values[:_ENUM_SHOWN])
+    hidden = len(values) - _ENUM_SHOWN
+    return shown + (f" and {hidden} more" if hidden > 0 else "")
+
+
+# "Element 'switch', attribute 'position': <body>" as libxml2 writes it.
+_SUBJECT: Final = re.compile(r"^Element '(?P<element>[^']*)'(?:, attribute '(?P<attr>[^']*)')?: ")
+_REWRITES: Final[tuple[tuple[re.Pattern[str], str], ...]] = (
+    (
+        re.compile(
+            r"\[facet 'enumeration'\] The value '(?P<v>.*)' is not an element of the set"
+            r" \{(?P<set>.*)\}\.?$"
+        ),
+        "enumeration",
+    ),
+    (
+        re.compile(r"^'(?P<v>.*)' is not a valid value of the \w+ type '(?P<type>[^']*)'\.?$"),
+        "type",
+    ),
+    (re.compile(r"^The attribute '(?P<a>[^']*)' is required but missing\.?$"), "required"),
+    (re.compile(r"^The attribute '(?P<a>[^']*)' is not allowed\.?$"), "unexpected_attribute"),
+    (
+        re.compile(r"^This element is not expected\. Expected is (?:one of )?\( (?P<e>.*) \)\.?$"),
+        "unexpected_element",
+    ),
+    (re.compile(r"^This element is not expected\.?$"), "unexpected_element_bare"),
+    (
+        re.compile(r"^Missing child element\(s\)\. Expected is (?:one of )?\( (?P<e>.*) \)\.?$"),
+        "missing_child",
+    ),
+    (
+        re.compile(r"^No match found for key-sequence \[(?P<v>.*)\] of keyref '(?P<k>[^']*)'\.?$"),
+        "keyref",
+    ),
+    (
+        re.compile(
+            r"^Duplicate key-sequence \[(?P<v>.*)\] in (?:key|unique) identity-constraint"
+            r" '(?P<k>[^']*)'\.?$"
+        ),
+        "duplicate",
+    ),
+    (
+        re.compile(
+            r"^\[facet '(?P<f>min|max)(?P<kind>Inclusive|Exclusive)'\] The value '(?P<v>.*)'"
+            r" is (?:less|greater) than the (?:minimum|maximum) value allowed \('(?P<lim>.*)'\)"
+            r"\.?$"
+        ),
+        "bound",
+    ),
+    (
+        re.compile(
+            r"^\[facet 'pattern'\] The value '(?P<v>.*)' is not accepted by the pattern"
+            r" '(?P<p>.*)'\.?$"
+        ),
+        "pattern",
+    ),
+    (
+        re.compile(
+            r"^The value '(?P<v>.*)' does not match the fixed value constraint"
+            r" '(?P<fixed>.*)'\.?$"
+        ),
+        "fixed",
+    ),
+)
+
+#: Message kinds about identity constraints or required children: the railroad rules
+#: (SW004, PT001, ST001, ...) report these better when they concern railroad elements.
+DEFERRABLE_KINDS: Final = frozenset({"keyref", "duplicate", "missing_child", "key_field"})
+
+
+@dataclass(frozen=True, slots=True)
+class Explained:
+    message: str
+    kind: str
+    element: str | None
+    key_values: tuple[str, ...] = ()
+    constraint: str | None = None
+
+
+def explain_libxml2(raw: str, catalog: TypeCatalog, version: str | None) -> Explained:
+    """Rewrite one libxml2 schema error for a person."""
+    raw = raw.strip()
+    subject = _SUBJECT.match(raw)
+    element = subject["element"] if subject else None
+    attr = subject["attr"] if subject else None
+    body = raw[subject.end() :] if subject else raw
+    where = f"'{element}/@{attr}'" if attr else f"'{element}'" if element else "the document"
+    for pattern, kind in _REWRITES:
+        match = pattern.search(body)
+        if match is None:
+            continue
+        fields = match.groupdict()
+        return Explained(
+            _render(kind, where, element or "", fields, catalog, version),
+            kind,
+            element,
+            _key_values(fields.get("v", "")) if kind in ("keyref", "duplicate") else (),
+            fields.get("k"),
+        )
+    if "evaluate to a node" in body:
+        return Explained(f"{where}: {_sentence(body)}", "key_field", element)
+    return Explained(f"{where}: {_sentence(body)}", "other", element)
+
+
+def _render(
+    kind: str,
+    where: str,
+    element: str,
+    f: dict[str, str],  # noqa: the match groups, named as in the patterns
+    catalog: TypeCatalog,
+    version: str | None,
+) -> str:
+    in_version = f" in OpenDRIVE {version}" if version else ""
+    if kind == "enumeration":
+        allowed = re.findall(r"'((?:[^']|'')*)'", f["set"])
+        return f"{where} is '{f['v']}', expected one of {quoted_list(allowed)}"
+    if kind == "type":
+        description = catalog.describe(f["type"])
+        expectation = f"expected {description}" if description else f"not a valid '{f['type']}'"
+        declared = (
+            f", which OpenDRIVE {version} (the version the header declares)" if version else ""
+        )
+        return f"{where} is '{f['v']}'{declared} does not allow: {expectation}"
+    if kind == "required":
+        return f"'{element}' lacks the required attribute '{f['a']}'"
+    if kind == "unexpected_attribute":
+        return f"'{element}' has an attribute '{f['a']}' the schema{in_version} does not define"
+    if kind == "unexpected_element":
+        return f"'{element}' is not allowed here{in_version}; expected {_names(f['e'])}"
+    if kind == "unexpected_element_bare":
+        return f"'{element}' is not allowed here{in_version}"
+    if kind == "missing_child":
+        return f"'{element}' lacks a required child: expected {_names(f['e'])}"
+    if kind == "keyref":
+        target = catalog.referenced(f["k"])
+        if target is None:
+            return f"{where} refers to {f['v']}, which no element of '{f['k']}' defines"
+        keyref = catalog.identities[f["k"]]
+        field_xpath = " and ".join(x.get("xpath", "") for x in keyref.iterfind(f"{{{XS}}}field"))
+        return (
+            f"'{element}/{field_xpath}' names {f['v']}, but no '{target[0]}' has that {target[1]}"
+        )
+    if kind == "duplicate":
+        key = catalog.referenced(f["k"])
+        if key is None:
+            return f"{where} repeats the key {f['v']} of '{f['k']}'"
+        return f"'{element}/{key[1]}' is {f['v']}, which an earlier '{key[0]}' already has"
+    if kind == "bound":
+        relation = {
+            ("min", "Inclusive"): ">=",
+            ("min", "Exclusive"): ">",
+            ("max", "Inclusive"): "<=",
+            ("max", "Exclusive"): "<",
+        }[f["f"], f["kind"]]
+        return f"{where} is '{f['v']}', expected a value {relation} {f['lim']}"
+    if kind == "pattern":
+        return f"{where} is '{f['v']}', expected a value matching {f['p']}"
+    return f"{where} is '{f['v']}', but the schema{in_version} fixes it to '{f['fixed']}'"
+
+
+def _names(expected: str) -> str:
+    names = [name.strip().rpartition("}")[2] for name in expected.split(",") if name.strip()]
+    if len(names) == 1:
+        return f"'{names[0]}'"
+    return "one of " + quoted_list(names)
+
+
+def _key_values(raw: str) -> tuple[str, ...]:
+    return tuple(value.replace("''", "'") for value in re.findall(r"'((?:[^']|'')*)'", raw))
+
+
+def _sentence(body: str) -> str:
+    body = body.strip().rstrip(".")
+    return body[:1].lower() + body[1:]

@@ -1,0 +1,65 @@
+"""Rule doc pages: every docstring has its sections, its examples are tested cases, and
+docs/rules/ is what the generator writes."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+
+from xodrlint.api import default_registry
+from xodrlint.docgen import generate
+from xodrlint.findings import RuleMeta
+
+from .conftest import REPO
+
+REQUIRED_SECTIONS = (
+    "## What it does",
+    "## Why is this bad?",
+    "## Example",
+    "Use instead:",
+    "## Related rules",
+    "## References",
+)
+METAS = default_registry().metas
+
+
+@pytest.mark.parametrize("meta", METAS, ids=lambda m: m.code)
+def test_docstring_has_every_section(meta: RuleMeta) -> None:
+    for section in REQUIRED_SECTIONS:
+        assert section in meta.doc, f"{meta.code} lacks '{section}'"
+    assert meta.doc.startswith(f"{meta.code} {meta.name}: "), meta.doc.splitlines()[0]
+    assert meta.uid in meta.doc, f"{meta.code}'s References must name its UID"
+
+
+def _blocks(text: str) -> list[str]:
+    return re.findall(r"```xml\n(.*?)```", text, flags=re.DOTALL)
+
+
+def _contains(haystack: str, block: str) -> bool:
+    wanted = [line.strip() for line in block.strip().splitlines()]
+    lines = [line.strip() for line in haystack.splitlines()]
+    return any(lines[i : i + len(wanted)] == wanted for i in range(len(lines)))
+
+
+@pytest.mark.parametrize("meta", METAS, ids=lambda m: m.code)
+def test_examples_are_tested_cases(meta: RuleMeta) -> None:
+    example, _, use_instead = meta.doc.partition("Use instead:")
+    folder = REPO / "rules" / meta.code
+    invalid = [p.read_text() for p in folder.glob("invalid_*.xodr")]
+    valid = [p.read_text() for p in folder.glob("valid_*.xodr")]
+    for block in _blocks(example.split("## Example", 1)[1]):
+        assert any(_contains(case, block) for case in invalid), f"{meta.code} example not in a case"
+    for block in _blocks(use_instead.split("\n## ", 1)[0]):
+        assert any(_contains(case, block) for case in valid), f"{meta.code} fix not in a case"
+
+
+def test_docs_rules_are_generated() -> None:
+    pages = generate(REPO, METAS)
+    for path, text in pages.items():
+        assert path.is_file(), f"{path.name} missing: run python -m xodrlint.docgen"
+        assert path.read_text(encoding="utf-8") == text, (
+            f"{path.name} is stale: run python -m xodrlint.docgen"
+        )
+    extra = {p.name for p in (REPO / "docs" / "rules").glob("*.md")} - {p.name for p in pages}
+    assert not extra, f"pages without a rule: {extra}"
