@@ -334,14 +334,14 @@ class _ReadableXPaths:
         per_id: dict[tuple[str, str], int] = {}
         for child, tag in children:
             per_tag[tag] = per_tag.get(tag, 0) + 1
-            ident = child.get("id")
+            ident = _own_id(child, tag)
             if ident is not None:
                 per_id[tag, ident] = per_id.get((tag, ident), 0) + 1
         seen_tag: dict[str, int] = {}
         seen_id: dict[tuple[str, str], int] = {}
         for child, tag in children:
             seen_tag[tag] = seen_tag.get(tag, 0) + 1
-            ident = child.get("id")
+            ident = _own_id(child, tag)
             if ident is not None:
                 key = (tag, ident)
                 seen_id[key] = seen_id.get(key, 0) + 1
@@ -353,6 +353,28 @@ class _ReadableXPaths:
             else:
                 step = tag
             self._steps[child] = step
+
+
+# Elements whose @id names *another* element (a road, a switch, a signal): it does not
+# identify them, so their XPath step uses a position, like any element without an id.
+_REFERENCE_ELEMENTS: Final = frozenset(
+    {
+        "partner",
+        "mainTrack",
+        "sideTrack",
+        "neighbor",
+        "objectReference",
+        "signalReference",
+        "dependency",
+        "reference",
+        "junctionReference",
+        "control",
+    }
+)
+
+
+def _own_id(element: etree._Element, tag: str) -> str | None:
+    return None if tag in _REFERENCE_ELEMENTS else element.get("id")
 
 
 def _local_name(element: etree._Element) -> str:

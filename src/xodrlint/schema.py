@@ -110,9 +110,15 @@ def fix_known_schema_bugs(schema_root: etree._Element) -> None:
     *switch* ids; they name roads, so every correct file with switches would fail. The
     keyrefs are pointed at the road key, which is what the standard means.
     """
-    keys = {_selector(key): key.get("name") for key in schema_root.iter(f"{{{XS}}}key")}
-    road_key = keys.get("road")
-    switch_key = keys.get("road/railroad/switch")
+    keys = {
+        (
+            _selector(key),
+            tuple(f.get("xpath", "").strip() for f in key.iterfind(f"{{{XS}}}field")),
+        ): key.get("name")
+        for key in schema_root.iter(f"{{{XS}}}key")
+    }
+    road_key = keys.get(("road", ("@id",)))
+    switch_key = keys.get(("road/railroad/switch", ("@id",)))
     if road_key is None or switch_key is None:
         return
     for keyref in schema_root.iter(f"{{{XS}}}keyref"):

@@ -228,7 +228,7 @@ def _render(
     kind: str,
     where: str,
     element: str,
-    f: dict[str, str],  # noqa: the match groups, named as in the patterns
+    f: dict[str, str],
     catalog: TypeCatalog,
     version: str | None,
 ) -> str:

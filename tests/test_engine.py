@@ -1,0 +1,144 @@
+"""Stage 5: rule selection, plugins through entry points, stamping and one defect one finding."""
+
+from __future__ import annotations
+
+import sys
+import textwrap
+from collections.abc import Iterator
+from importlib.metadata import EntryPoint
+from pathlib import Path
+
+import pytest
+
+from xodrlint.engine import Linter, LintOptions, SelectorError, select_rules
+from xodrlint.findings import Hit, Severity
+from xodrlint.model import RailNetwork
+from xodrlint.registry import Registry, load_registry
+from xodrlint.rules import rule
+
+from .conftest import REPO
+
+BUILTIN_POINT = EntryPoint("document", "xodrlint.rules.document", "xodrlint.rules")
+
+
+def _codes(select: tuple[str, ...], ignore: tuple[str, ...] = ()) -> list[str]:
+    return [r.code for r in select_rules(load_registry([BUILTIN_POINT]), select, ignore)]
+
+
+def test_selection_longest_match_wins_and_ignore_wins_ties() -> None:
+    assert _codes(("ALL",)) == ["XS001", "XS002", "XS003", "XS004", "XS005", "XS006"]
+    assert _codes(("XS",), ("XS00",)) == []
+    assert _codes(("XS006",), ("XS",)) == ["XS006"]
+    assert _codes(("XS",), ("XS",)) == []
+    assert _codes(("xs005",)) == ["XS005"]
+    assert _codes(("schema-violation",)) == ["XS006"]
+    assert _codes(("asam.net:xodr:1.0.0:xml.valid_schema",)) == ["XS006"]
+
+
+def test_unknown_selector_is_an_error() -> None:
+    with pytest.raises(SelectorError, match="'SW999'"):
+        _codes(("SW999",))
+
+
+@pytest.fixture
+def plugin_pack(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[str]:
+    """A third-party rule pack on sys.path, as an installed plugin would be."""
+    package = tmp_path / "acme_rules"
+    package.mkdir()
+    (package / "__init__.py").write_text('"""ACME rules."""\n')
+    (package / "ac001.py").write_text(
+        textwrap.dedent('''
+        """AC001 station-too-many: a file has more than one station.
+
+        ## What it does
+        Counts stations.
+        """
+        from xodrlint.findings import Hit, Severity
+        from xodrlint.rules import rule
+
+        @rule(code="AC001", name="station-too-many", uid="acme:xodr:1.0.0:stations.one",
+              severity=Severity.INFO)
+        def too_many(network):
+            for station in network.stations[1:]:
+                yield Hit(station.element, f"station '{station.id}' is one too many")
+        ''')
+    )
+    monkeypatch.syspath_prepend(str(tmp_path))
+    yield "acme_rules"
+    for name in [m for m in sys.modules if m.startswith("acme_rules")]:
+        del sys.modules[name]
+
+
+def test_a_plugin_pack_registers_like_the_builtin_ones(plugin_pack: str, tmp_path: Path) -> None:
+    registry = load_registry([BUILTIN_POINT, EntryPoint("acme", plugin_pack, "xodrlint.rules")])
+    assert "AC001" in registry.by_code and registry.warnings == ()
+    assert registry.by_code["AC001"].meta.summary == "a file has more than one station"
+    target = tmp_path / "two.xodr"
+    target.write_text(
+        '<OpenDRIVE><header revMajor="1" revMinor="7"/>\n<station id="a" name="A"/>\n'
+        '<station id="b" name="B"/>\n</OpenDRIVE>'
+    )
+    report = Linter(registry, LintOptions(select=("AC",))).lint_path(target)
+    assert [(f.code, f.line, f.severity, f.xpath) for f in report.findings] == [
+        ("AC001", 3, Severity.INFO, "/OpenDRIVE/station[@id='b']")
+    ]
+
+
+def test_a_broken_plugin_is_a_warning_not_a_crash() -> None:
+    registry = load_registry(
+        [BUILTIN_POINT, EntryPoint("bad", "no_such_module_xyz", "xodrlint.rules")]
+    )
+    assert len(registry.rules) == 6
+    assert registry.warnings and "'bad'" in registry.warnings[0]
+
+
+def test_a_crashing_rule_is_an_internal_error_and_the_others_still_report(tmp_path: Path) -> None:
+    @rule(code="ZZ001", name="always-crashes", uid="test:crash", severity=Severity.ERROR)
+    def crashes(network: RailNetwork) -> Iterator[Hit]:
+        raise RuntimeError("boom")
+        yield  # pragma: no cover
+
+    builtin = load_registry([BUILTIN_POINT])
+    registry = Registry((*builtin.rules, crashes))
+    target = tmp_path / "v.xodr"
+    target.write_text('<OpenDRIVE><header revMajor="1" revMinor="12"/></OpenDRIVE>')
+    report = Linter(registry).lint_path(target)
+    assert [f.code for f in report.findings] == ["XS005"]
+    assert report.internal_errors and "ZZ001" in report.internal_errors[0]
+
+
+def test_a_specific_rule_silences_the_deferrable_schema_error_on_its_element(
+    tmp_path: Path,
+) -> None:
+    @rule(code="ZZ002", name="partner-check", uid="test:partner", severity=Severity.ERROR)
+    def partner_check(network: RailNetwork) -> Iterator[Hit]:
+        for switch in network.switches:
+            if switch.partner is not None:
+                yield Hit(switch.partner.element, "specific finding")
+
+    builtin = load_registry([BUILTIN_POINT])
+    registry = Registry((*builtin.rules, partner_check))
+    target = tmp_path / "p.xodr"
+    target.write_text((REPO / "examples" / "clean.xodr").read_text())
+    report = Linter(registry).lint_path(target)
+    assert {f.code for f in report.findings} == {"ZZ002"}
+    # the deferral only removes deferrable schema hits: a real XS006 stays
+    broken = tmp_path / "b.xodr"
+    broken.write_text((REPO / "examples" / "broken.xodr").read_text())
+    codes = sorted(f.code for f in Linter(registry).lint_path(broken).findings)
+    assert codes == ["XS006", "XS006", "XS006", "ZZ002", "ZZ002"]
+
+
+def test_not_well_formed_files_run_nothing_else(tmp_path: Path) -> None:
+    target = tmp_path / "t.xodr"
+    target.write_text("<OpenDRIVE><header revMajor='1'")
+    report = Linter(load_registry([BUILTIN_POINT])).lint_path(target)
+    assert [(f.code, f.xpath, f.column is not None) for f in report.findings] == [
+        ("XS001", "/", True)
+    ]
+
+
+def test_unreadable_path_is_a_report_error_not_a_finding(tmp_path: Path) -> None:
+    report = Linter(load_registry([BUILTIN_POINT])).lint_path(tmp_path / "missing.xodr")
+    assert report.findings == () and report.error is not None
+    assert "no such file" in report.error.lower()

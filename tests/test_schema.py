@@ -1,0 +1,186 @@
+"""Stage 2: finding the schema of a version, validating, and messages people understand."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+
+from xodrlint.api import default_registry
+from xodrlint.engine import Linter, LintOptions
+from xodrlint.findings import FileReport
+from xodrlint.schemas import Origin, SchemaFinder, builtin_set
+
+from .conftest import CORPUS_RAIL, REPO, SHARED_SCHEMAS, needs_shared
+
+MINIMAL_XSD = """<?xml version="1.0"?>
+<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema">
+  <xs:element name="OpenDRIVE"><xs:complexType><xs:sequence>
+    <xs:any processContents="skip" minOccurs="0" maxOccurs="unbounded"/>
+  </xs:sequence></xs:complexType></xs:element>
+</xs:schema>
+"""
+OFFICIAL_EXAMPLES = [
+    "ASAM-1.6.0_Ex-Railway-Switch.xodr",
+    "ASAM-1.6.1_Ex-Railway-Switch.xodr",
+    "ASAM-1.7.0_Ex_Railway-Switch.xodr",
+    "ASAM-1.7.0_Ex_Railway-Station.xodr",
+]
+STATIONS_DECLARING_1_5 = [
+    "ASAM-1.6.0_Ex_Railway_station.xodr",
+    "ASAM-1.6.1_Ex_Railway_station.xodr",
+]
+
+
+def _set(folder: Path, version: str) -> Path:
+    (folder / version).mkdir(parents=True)
+    (folder / version / "core.xsd").write_text(MINIMAL_XSD)
+    return folder / version / "core.xsd"
+
+
+def test_finder_order_option_then_environment_then_user_data(tmp_path: Path) -> None:
+    option, env, data = (
+        _set(tmp_path / "o", "1.7.0"),
+        _set(tmp_path / "e", "1.7.0"),
+        _set(tmp_path / "d", "1.7.0"),
+    )
+    environment = {"XODRLINT_SCHEMA_PATH": str(env.parents[1])}
+    finder = SchemaFinder(option.parents[1], Origin.OPTION, environment, data.parents[1])
+    assert finder.find(1, 7).origin is Origin.OPTION
+    assert (
+        SchemaFinder(None, Origin.OPTION, environment, data.parents[1]).find(1, 7).origin
+        is Origin.ENVIRONMENT
+    )
+    assert (
+        SchemaFinder(None, Origin.OPTION, {}, data.parents[1]).find(1, 7).origin is Origin.USER_DATA
+    )
+    fallback = SchemaFinder(None, Origin.OPTION, {}, tmp_path / "none").find(1, 7)
+    assert fallback.is_builtin and fallback.entry == builtin_set(1, 7).entry
+
+
+def test_finder_picks_newest_patch_and_falls_through_missing_versions(tmp_path: Path) -> None:
+    _set(tmp_path, "1.8.0")
+    newest = _set(tmp_path, "1.8.1")
+    finder = SchemaFinder(tmp_path, Origin.OPTION, {}, tmp_path / "none")
+    assert finder.find(1, 8).entry == newest.resolve()
+    assert finder.find(1, 9).is_builtin
+
+
+def test_single_file_and_single_set_serve_every_version(tmp_path: Path) -> None:
+    xsd = tmp_path / "mine.xsd"
+    xsd.write_text(MINIMAL_XSD)
+    assert SchemaFinder(xsd, Origin.OPTION, {}, tmp_path).find(1, 4).entry == xsd.resolve()
+    assert (
+        SchemaFinder(tmp_path, Origin.OPTION, {}, tmp_path / "x").find(1, 9).entry == xsd.resolve()
+    )
+
+
+@pytest.mark.parametrize("minor", range(1, 10))
+def test_builtin_schema_exists_for_every_version(minor: int) -> None:
+    assert builtin_set(1, minor).entry.is_file()
+
+
+def _lint(path: Path, schema: Path | None = None, select: tuple[str, ...] = ("ALL",)) -> FileReport:
+    return Linter(default_registry(), LintOptions(select=select, schema=schema)).lint_path(path)
+
+
+@pytest.mark.parametrize(
+    "name", [*OFFICIAL_EXAMPLES, "SUMO-gen_game-rail.xodr", "OpenSCENARIO-1.2_SampleDatabase.xodr"]
+)
+@pytest.mark.parametrize("official", [True, False], ids=["official", "builtin"])
+@needs_shared
+def test_official_examples_are_clean(name: str, official: bool) -> None:
+    report = _lint(CORPUS_RAIL / name, SHARED_SCHEMAS if official else None)
+    assert report.findings == ()
+    assert report.schema_builtin is not official
+
+
+@pytest.mark.parametrize("name", STATIONS_DECLARING_1_5)
+@needs_shared
+def test_stations_declaring_1_5_get_one_plain_country_code_finding(name: str) -> None:
+    report = _lint(CORPUS_RAIL / name, SHARED_SCHEMAS)
+    assert [(f.code, f.line) for f in report.findings] == [("XS006", 8)]
+    message = report.findings[0].message
+    assert "'type/@country' is 'DE'" in message
+    assert "OpenDRIVE 1.5" in message and "[A-Z]{3}" in message
+
+
+@needs_shared
+def test_1_5_keyref_bug_is_repaired(tmp_path: Path) -> None:
+    switch = (CORPUS_RAIL / "ASAM-1.7.0_Ex_Railway-Switch.xodr").read_text()
+    as_1_5 = tmp_path / "switch-1.5.xodr"
+    as_1_5.write_text(switch.replace('revMinor="7"', 'revMinor="5"'))
+    assert _lint(as_1_5, SHARED_SCHEMAS).findings == ()
+    # a side track naming no road is still caught, as a road reference
+    broken = tmp_path / "broken-1.5.xodr"
+    broken.write_text(
+        as_1_5.read_text().replace(
+            '<sideTrack id="2" s="0.0000000000000000e+00"', '<sideTrack id="77" s="0"'
+        )
+    )
+    messages = [f.message for f in _lint(broken, SHARED_SCHEMAS).findings]
+    assert messages == ["'sideTrack/@id' names '77', but no 'road' has that @id"]
+
+
+@needs_shared
+def test_bad_switch_position_is_xs006_at_the_switch_line(tmp_path: Path) -> None:
+    source = (CORPUS_RAIL / "ASAM-1.7.0_Ex_Railway-Switch.xodr").read_text()
+    bad = tmp_path / "position.xodr"
+    bad.write_text(source.replace('position="dynamic"', 'position="sideways"', 1))
+    line = next(i for i, text in enumerate(source.splitlines(), 1) if "<switch" in text)
+    for schema in (SHARED_SCHEMAS, None):
+        findings = _lint(bad, schema).findings
+        assert [(f.code, f.line) for f in findings] == [("XS006", line)]
+        assert (
+            findings[0].message
+            == "'switch/@position' is 'sideways', expected one of 'dynamic', 'straight', 'turn'"
+        )
+
+
+@needs_shared
+def test_xsd11_schema_reports_on_the_referencing_elements() -> None:
+    report = _lint(CORPUS_RAIL / "libopendrive-rs_railways.xodr", SHARED_SCHEMAS, ("XS006",))
+    found = [(f.line, f.xpath) for f in report.findings]
+    assert (
+        found
+        == [
+            (7, "/OpenDRIVE/road[@id='1']/railroad/switch[@id='7']/partner"),
+            (7, "/OpenDRIVE/road[@id='1']/railroad/switch[@id='7']/sideTrack"),
+            (7, "/OpenDRIVE/road[@id='1']/railroad/switch[@id='9']"),
+            (7, "/OpenDRIVE/road[@id='1']/railroad/switch[@id='9']/sideTrack"),
+            (14, "/OpenDRIVE/station[@id='20']/platform[@id='20-1']/segment[2]"),
+        ]
+        or len(found) == 4
+    )
+    messages = " | ".join(f.message for f in report.findings)
+    assert "'switch' lacks the required attribute 'name'" in messages
+    assert "'segment/@side' is 'up'" in messages
+    assert "evaluate to a node" not in messages and "missing key field" not in messages
+
+
+def test_builtin_schema_flags_railroad_in_versions_before_1_4() -> None:
+    report = _lint(REPO / "rules" / "XS006" / "invalid_railroad_in_1_3.xodr")
+    assert [f.message for f in report.findings] == [
+        "'railroad' does not exist in OpenDRIVE 1.3; railroad content starts with OpenDRIVE 1.4"
+    ]
+
+
+def test_broken_user_schema_is_a_setup_error(tmp_path: Path) -> None:
+    from xodrlint.schemas import SchemaLoadError
+
+    (tmp_path / "bad.xsd").write_text(
+        "<xs:schema xmlns:xs='http://www.w3.org/2001/XMLSchema'><xs:element/></xs:schema>"
+    )
+    with pytest.raises(SchemaLoadError):
+        _lint(REPO / "examples" / "clean.xodr", tmp_path / "bad.xsd")
+
+
+def test_schema_paths_with_dotdot_still_compile(tmp_path: Path) -> None:
+    if not SHARED_SCHEMAS.is_dir():
+        pytest.skip("../shared is absent")
+    copy = tmp_path / "sets"
+    shutil.copytree(SHARED_SCHEMAS / "1.7.0", copy / "1.7.0")
+    dotted = tmp_path / "x" / ".." / "sets"
+    (tmp_path / "x").mkdir()
+    assert _lint(REPO / "examples" / "clean.xodr", dotted).findings == ()
