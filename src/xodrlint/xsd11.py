@@ -78,16 +78,26 @@ class Xsd11Validator:
                     continue
                 where = f"'{etree.QName(element).localname}'"
                 shown = quoted_list(list(values))
-                message = (
-                    f"{where} repeats the key {shown} of '{name}'"
-                    if duplicate
-                    else f"{where} refers to {shown}, which no element of '{key}' defines"
+                yield Hit(
+                    element, _identity_message(where, shown, constraint, duplicate), deferrable=True
                 )
-                yield Hit(element, message, deferrable=True)
 
     def _constraints(self) -> Iterator[tuple[str, Any]]:
         for name, constraint in self._schema.identities.items():
             yield str(getattr(constraint, "local_name", None) or name), constraint
+
+
+def _identity_message(where: str, shown: str, constraint: Any, duplicate: bool) -> str:
+    """Worded like the libxml2 path's messages, from the constraint's selector and fields."""
+    tag = where.strip("'")
+    fields = " and ".join(field.path for field in constraint.fields)
+    key = constraint if duplicate else getattr(constraint, "refer", None)
+    if key is None:
+        return f"{where} refers to {shown}, which is not defined"
+    key_fields = " and ".join(field.path for field in key.fields)
+    if duplicate:
+        return f"'{tag}/{fields}' is {shown}, which an earlier '{key.selector.path}' already has"
+    return f"'{tag}/{fields}' names {shown}, but no '{key.selector.path}' has that {key_fields}"
 
 
 def _tuple(text: str) -> tuple[str, ...]:
