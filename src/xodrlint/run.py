@@ -75,9 +75,11 @@ def run_check(request: CheckRequest) -> int:
         _error(str(error))
         return 2
     inputs = list(collect_inputs(request.paths))
-    if request.output not in (None, STDOUT) and _is_input(Path(request.output), inputs):
-        _error(f"--output {request.output} is one of the inputs; refusing to overwrite it")
-        return 2
+    if request.output not in (None, STDOUT):
+        problem = _output_problem(Path(request.output), inputs)
+        if problem is not None:
+            _error(f"--output {request.output}: {problem}")
+            return 2
     stdin = sys.stdin.buffer.read() if any(i.is_stdin for i in inputs) else None
     name = request.stdin_filename or "-"
     try:
@@ -91,12 +93,27 @@ def run_check(request: CheckRequest) -> int:
         for crash in report.internal_errors:
             _error(f"internal error: {crash}")
     result = RunResult(tuple(reports), registry.metas, __version__, notes=_notes(reports))
-    _write(request.output, lambda stream: formatter.render(result, stream))
+    try:
+        _write(request.output, lambda stream: formatter.render(result, stream))
+    except OSError as error:
+        _error(f"--output {request.output}: cannot write: {error.strerror or error}")
+        return 2
     return exit_code(reports, Severity(request.fail_on), request.exit_zero)
 
 
 def _notes(reports: list[FileReport]) -> tuple[str, ...]:
     return (FULL_VALIDATION_NOTE,) if any(r.schema_builtin for r in reports) else ()
+
+
+def _output_problem(output: Path, inputs: list[Input]) -> str | None:
+    """Why ``output`` cannot take the report, checked before any linting is done."""
+    if _is_input(output, inputs):
+        return "is one of the inputs; refusing to overwrite it"
+    if output.is_dir():
+        return "is a folder"
+    if not output.parent.is_dir():
+        return f"its folder {output.parent} does not exist"
+    return None
 
 
 def _is_input(output: Path, inputs: list[Input]) -> bool:

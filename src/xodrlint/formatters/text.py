@@ -74,8 +74,10 @@ def _summary(result: RunResult) -> Text:
     total = sum(counts.values())
     unreadable = sum(1 for r in result.reports if r.error)
     noun = "file" if files == 1 else "files"
-    if total == 0:
+    if total == 0 and not unreadable:
         text = Text(f"All checks passed: {files} {noun}, no findings.", style="green")
+    elif total == 0:
+        text = Text(f"No findings in {files - unreadable} of {files} {noun}.")
     else:
         parts = ", ".join(
             f"{n} {severity}{'s' if n != 1 else ''}" for severity, n in counts.items() if n

@@ -1,0 +1,416 @@
+"""The ``xodrlint`` command end to end: exit codes, reports, options and schema management."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import re
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+from typing import Any
+
+import jsonschema  # type: ignore[import-untyped, unused-ignore]
+import pytest
+from typer.testing import CliRunner, Result
+
+from xodrlint import __version__
+from xodrlint.api import default_registry
+from xodrlint.cli import app
+from xodrlint.schemas.store import install_wheel
+
+from .conftest import REPO
+
+CLEAN = REPO / "examples" / "clean.xodr"
+BROKEN = REPO / "examples" / "broken.xodr"
+OUTPUT_SCHEMA = json.loads((REPO / "docs" / "json-output.schema.json").read_text("utf-8"))
+CONSOLE_SCRIPT = Path(sys.executable).parent / "xodrlint"
+ANSI = re.compile(r"\x1b\[")
+BROKEN_FINDINGS = [
+    (22, "/OpenDRIVE/road[@id='1']/railroad/switch[@id='101']"),
+    (27, "/OpenDRIVE/road[@id='1']/railroad/switch[@id='102']"),
+    (51, "/OpenDRIVE/station[@id='500']/platform[@id='501']/segment"),
+]
+# Rich must see a pipe, never a forced terminal, whatever the developer's shell sets.
+PLAIN_ENV: dict[str, str | None] = {"FORCE_COLOR": None, "TTY_COMPATIBLE": None, "NO_COLOR": None}
+# A stand-in for an official ASAM OpenDRIVE schema: one global OpenDRIVE, any content.
+STUB_XSD = """<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema">
+  <xs:element name="OpenDRIVE"><xs:complexType><xs:sequence>
+    <xs:any processContents="skip" minOccurs="0" maxOccurs="unbounded"/>
+  </xs:sequence><xs:anyAttribute processContents="skip"/></xs:complexType></xs:element>
+</xs:schema>
+"""
+
+
+def cli(*args: str | Path, code: int, stdin: bytes | None = None, **env: str | None) -> Result:
+    result = CliRunner().invoke(app, [str(a) for a in args], input=stdin, env={**PLAIN_ENV, **env})
+    if result.exception is not None and not isinstance(result.exception, SystemExit):
+        raise result.exception
+    assert result.exit_code == code, (result.stdout, result.stderr)
+    return result
+
+
+def report(*args: str | Path, code: int, stdin: bytes | None = None) -> dict[str, Any]:
+    """Run ``check -f json`` and return the document, checked against the public schema."""
+    result = cli("check", "-f", "json", *args, code=code, stdin=stdin)
+    document: dict[str, Any] = json.loads(result.stdout)
+    jsonschema.validate(document, OUTPUT_SCHEMA)
+    return document
+
+
+def codes(document: dict[str, Any]) -> list[str]:
+    return [finding["code"] for finding in document["findings"]]
+
+
+def write_variant(path: Path, source: Path, old: str, new: str) -> Path:
+    text = source.read_text("utf-8")
+    assert old in text
+    path.write_text(text.replace(old, new), "utf-8")
+    return path
+
+
+def test_exit_codes_for_clean_broken_and_exit_zero() -> None:
+    assert "All checks passed: 1 file, no findings." in cli("check", CLEAN, code=0).stdout
+    cli("check", BROKEN, code=1)
+    cli("check", BROKEN, "--exit-zero", code=0)
+
+
+def test_fail_on_decides_whether_a_warning_fails(tmp_path: Path) -> None:
+    # A clean network declaring OpenDRIVE 1.12: one XS005 warning.
+    warning_file = write_variant(tmp_path / "v.xodr", CLEAN, 'revMinor="7"', 'revMinor="12"')
+    assert codes(report(warning_file, code=1)) == ["XS005"]
+    cli("check", warning_file, code=1)
+    cli("check", warning_file, "--fail-on", "error", code=0)
+    cli("check", BROKEN, "--fail-on", "error", code=1)
+
+
+def test_missing_file_is_exit_2_and_the_other_paths_are_still_linted(tmp_path: Path) -> None:
+    missing = tmp_path / "missing.xodr"
+    result = cli("check", missing, BROKEN, code=2)
+    assert result.stderr.splitlines() == [f"xodrlint: {missing}: no such file or directory"]
+    assert "Traceback" not in result.output
+    assert f"{BROKEN}:22: XS006 [error]" in result.stdout
+    assert "1 could not be read." in result.stdout
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--select", "XS9"], "'XS9' matches no rule code, name or UID"),
+        (["--ignore", "nonsense"], "'nonsense' matches no rule code, name or UID"),
+        (["-f", "xml"], "unknown output format 'xml' (choose from json, text)"),
+        (["--schema", "/nowhere/at/all"], "--schema /nowhere/at/all: no such file or folder"),
+    ],
+)
+def test_usage_errors_are_exit_2_with_one_line(args: list[str], message: str) -> None:
+    result = cli("check", CLEAN, *args, code=2)
+    assert result.stderr == f"xodrlint: {message}\n"
+    assert result.stdout == ""
+
+
+def test_a_schema_that_does_not_compile_is_exit_2(tmp_path: Path) -> None:
+    (tmp_path / "bad.xsd").write_text("not xml at all", "utf-8")
+    result = cli("check", CLEAN, "--schema", tmp_path / "bad.xsd", code=2)
+    assert result.stderr.startswith(f"xodrlint: cannot read schema {tmp_path / 'bad.xsd'}")
+
+
+def test_json_report_of_broken_example() -> None:
+    document = report(BROKEN, code=1)
+    assert [(f["code"], f["line"], f["xpath"]) for f in document["findings"]] == [
+        ("XS006", line, xpath) for line, xpath in BROKEN_FINDINGS
+    ]
+    assert {(f["column"], f["path"], f["severity"], f["uid"]) for f in document["findings"]} == {
+        (None, str(BROKEN), "error", "asam.net:xodr:1.0.0:xml.valid_schema")
+    }
+    assert document["findings"][0]["message"] == (
+        "'switch/@position' is 'sideways', expected one of 'dynamic', 'straight', 'turn'"
+    )
+    [entry] = document["files"]
+    assert entry["declared_version"] == "1.7"
+    assert entry["schema"]["builtin"] is True
+    assert entry["findings"] == 3
+    assert entry["error"] is None
+    assert document["tool"] == {"name": "xodrlint", "version": __version__}
+    assert document["summary"] == {
+        "files": 1,
+        "files_with_findings": 1,
+        "unreadable_files": 0,
+        "findings": 3,
+        "by_severity": {"error": 3, "warning": 0, "info": 0},
+    }
+    assert document["notes"] and "xodrlint schemas fetch" in document["notes"][0]
+
+
+def test_output_schema_is_valid_and_strict() -> None:
+    jsonschema.Draft202012Validator.check_schema(OUTPUT_SCHEMA)
+    document = report(CLEAN, code=0)
+    assert document["findings"] == [] and document["summary"]["files_with_findings"] == 0
+    document["files"][0]["extra"] = True
+    with pytest.raises(jsonschema.ValidationError, match="'extra' was unexpected"):
+        jsonschema.validate(document, OUTPUT_SCHEMA)
+
+
+def test_json_report_lists_a_missing_file_and_stays_complete(tmp_path: Path) -> None:
+    missing = tmp_path / "missing.xodr"
+    document = report(CLEAN, missing, BROKEN, code=2)
+    assert [f["path"] for f in document["files"]] == [str(CLEAN), str(missing), str(BROKEN)]
+    gone = document["files"][1]
+    assert gone["error"] == f"{missing}: no such file or directory"
+    assert (gone["schema"], gone["declared_version"], gone["findings"]) == (None, None, 0)
+    assert document["summary"]["unreadable_files"] == 1
+    assert codes(document) == ["XS006"] * 3
+
+
+def test_json_report_of_an_unparsable_file_has_a_column(tmp_path: Path) -> None:
+    (tmp_path / "bad.xodr").write_text("<OpenDRIVE>", "utf-8")
+    [finding] = report(tmp_path / "bad.xodr", code=1)["findings"]
+    assert (finding["code"], finding["line"], finding["xpath"]) == ("XS001", 1, "/")
+    assert isinstance(finding["column"], int)
+
+
+def test_text_report_when_piped_is_plain_and_unwrapped(tmp_path: Path) -> None:
+    value = "sideways" * 40
+    long_file = write_variant(tmp_path / "long.xodr", BROKEN, "sideways", value)
+    out = cli("check", long_file, code=1, NO_COLOR="1", COLUMNS="40").stdout
+    message = f"'switch/@position' is '{value}', expected one of 'dynamic', 'straight', 'turn'"
+    assert f"{long_file}:22: XS006 [error] {message}\n" in out
+    assert "\n    /OpenDRIVE/road[@id='1']/railroad/switch[@id='101']\n" in out
+    assert "\n    /OpenDRIVE/station[@id='500']/platform[@id='501']/segment\n" in out
+    assert "Found 3 findings (3 errors) in 1 of 1 file.\n" in out
+    assert not ANSI.search(out)
+    assert not ANSI.search(cli("check", BROKEN, code=1).stdout)
+
+
+def test_quiet_prints_finding_lines_only() -> None:
+    lines = cli("check", BROKEN, "--quiet", code=1).stdout.splitlines()
+    assert [line.split(": XS006 [error] ")[0] for line in lines] == [
+        f"{BROKEN}:{line}" for line, _ in BROKEN_FINDINGS
+    ]
+    assert cli("check", CLEAN, "-q", code=0).stdout == ""
+
+
+def test_show_source_prints_the_source_line() -> None:
+    out = cli("check", BROKEN, "--show-source", code=1).stdout
+    assert '    22 |       <switch name="W1" id="101" position="sideways">\n' in out
+    assert '    51 |       <segment roadId="1" sStart="60" sEnd="140" side="up"/>\n' in out
+
+
+@pytest.mark.parametrize("output_format", ["text", "json"])
+def test_output_writes_the_report_to_a_file(tmp_path: Path, output_format: str) -> None:
+    target = tmp_path / "report.out"
+    result = cli("check", BROKEN, "-f", output_format, "--output", target, code=1)
+    assert result.stdout == ""
+    written = target.read_text("utf-8")
+    if output_format == "json":
+        jsonschema.validate(json.loads(written), OUTPUT_SCHEMA)
+    else:
+        assert f"{BROKEN}:27: XS006 [error]" in written
+    assert [p.name for p in tmp_path.iterdir()] == ["report.out"]  # no temp file left
+
+
+@pytest.mark.parametrize("as_folder", [False, True])
+def test_output_refuses_to_overwrite_an_input(tmp_path: Path, as_folder: bool) -> None:
+    victim = tmp_path / "map.xodr"
+    victim.write_bytes(BROKEN.read_bytes())
+    result = cli("check", tmp_path if as_folder else victim, "-o", victim, code=2)
+    assert "is one of the inputs; refusing to overwrite it" in result.stderr
+    assert victim.read_bytes() == BROKEN.read_bytes()
+
+
+def test_stdin_is_reported_under_stdin_filename() -> None:
+    args = ("-", "--stdin-filename", "maps/x.xodr")
+    document = report(*args, code=1, stdin=BROKEN.read_bytes())
+    assert [f["path"] for f in document["files"]] == ["maps/x.xodr"]
+    assert {f["path"] for f in document["findings"]} == {"maps/x.xodr"}
+    out = cli("check", *args, "-q", code=1, stdin=BROKEN.read_bytes()).stdout
+    assert out.startswith("maps/x.xodr:22: XS006 [error] ")
+
+
+def test_folders_are_walked_for_xodr_files_in_sorted_order(tmp_path: Path) -> None:
+    root = tmp_path / "maps"
+    names = ["z.xodr", "c/d/deep.xodr", "b.xodr", "a/y.xodr", "notes.txt", "a/y.xodr.bak"]
+    for name in names:
+        (root / name).parent.mkdir(parents=True, exist_ok=True)
+        (root / name).write_bytes(CLEAN.read_bytes())
+    document = report(root, code=0)
+    expected = ["a/y.xodr", "b.xodr", "c/d/deep.xodr", "z.xodr"]
+    assert [f["path"] for f in document["files"]] == [f"{root}/{name}" for name in expected]
+
+
+@pytest.mark.parametrize(
+    ("select", "ignore", "expected"),
+    [
+        ("ALL", "", ["XS005", "XS006", "XS006", "XS006"]),
+        ("XS00", "XS006", ["XS005"]),  # the longer ignore wins
+        ("XS006", "XS00", ["XS006", "XS006", "XS006"]),  # the longer select wins
+        ("XS005,XS006", "XS", ["XS005", "XS006", "XS006", "XS006"]),
+        ("XS006", "XS006", []),  # a tie: ignore wins
+        ("schema-violation", "XS006", []),  # a name is as specific as its code
+        ("asam.net:xodr:1.0.0:xml.valid_schema", "", ["XS006", "XS006", "XS006"]),
+    ],
+)
+def test_select_and_ignore(tmp_path: Path, select: str, ignore: str, expected: list[str]) -> None:
+    mixed = write_variant(tmp_path / "mixed.xodr", BROKEN, 'revMinor="7"', 'revMinor="12"')
+    args = ["--select", select, *(["--ignore", ignore] if ignore else [])]
+    document = report(mixed, *args, code=1 if expected else 0)
+    assert codes(document) == expected
+    if "XS006" not in expected:  # no schema stage ran, so there is nothing to note
+        assert document["files"][0]["schema"] is None
+        assert document["notes"] == []
+
+
+def test_rules_lists_each_rule_with_its_uid_on_one_line() -> None:
+    lines = cli("rules", code=0).stdout.splitlines()
+    assert lines[0].split() == ["Code", "Name", "Severity", "UID"]
+    metas = {meta.code: meta for meta in default_registry().metas}
+    assert {f"XS00{n}" for n in range(1, 7)} <= set(metas)
+    for code, meta in metas.items():
+        [line] = [line for line in lines if line.startswith(f"{code} ")]
+        assert line.split() == [code, meta.name, str(meta.severity), *meta.uids]
+
+
+def test_rules_as_json() -> None:
+    entries = json.loads(cli("rules", "-f", "json", code=0).stdout)
+    by_code = {entry["code"]: entry for entry in entries}
+    assert by_code["XS006"]["uid"] == "asam.net:xodr:1.0.0:xml.valid_schema"
+    assert by_code["XS005"]["severity"] == "warning"
+    cli("rules", "-f", "yaml", code=2)
+
+
+@pytest.mark.parametrize(
+    "token", ["XS006", "xs006", "schema-violation", "asam.net:xodr:1.0.0:xml.valid_schema"]
+)
+def test_explain_prints_the_rule_doc(token: str) -> None:
+    out = cli("explain", token, code=0).stdout
+    assert out.startswith("# XS006 schema-violation\n")
+    assert "UID: `asam.net:xodr:1.0.0:xml.valid_schema`" in out
+    assert "## Why is this bad?" in out
+    assert not ANSI.search(out)
+
+
+def test_explain_an_unknown_rule_is_exit_2() -> None:
+    result = cli("explain", "XS999", code=2)
+    assert result.stderr == "xodrlint: no rule 'XS999' (see 'xodrlint rules')\n"
+
+
+def test_version() -> None:
+    assert cli("--version", code=0).stdout == f"xodrlint {__version__}\n"
+
+
+def stub_download(root: Path) -> Path:
+    (root / "1.7.0").mkdir(parents=True)
+    (root / "1.7.0" / "opendrive_core.xsd").write_text(STUB_XSD, "utf-8")
+    (root / "1.7.0" / "readme.txt").write_text("not a schema", "utf-8")
+    return root
+
+
+def zip_of(folder: Path, archive: Path) -> Path:
+    with zipfile.ZipFile(archive, "w") as handle:
+        for path in sorted(folder.rglob("*")):
+            if path.is_file():
+                handle.write(path, path.relative_to(folder).as_posix())
+    return archive
+
+
+@pytest.mark.parametrize("as_zip", [False, True])
+def test_schemas_add_installs_an_official_set(
+    tmp_path: Path, isolated_schemas: Path, as_zip: bool
+) -> None:
+    source = stub_download(tmp_path / "download")
+    if as_zip:
+        source = zip_of(source, tmp_path / "download.zip")
+    installed = isolated_schemas / "schemas" / "1.7.0"
+    assert cli("schemas", "list", code=0).stdout.startswith("no official schemas found\n")
+    out = cli("schemas", "add", source, code=0).stdout
+    assert out == f"added OpenDRIVE 1.7.0 (1 files) to {installed}\n"
+    assert [p.name for p in installed.iterdir()] == ["opendrive_core.xsd"]
+    assert (installed / "opendrive_core.xsd").read_text("utf-8") == STUB_XSD
+
+    listing = cli("schemas", "list", code=0).stdout
+    [line] = [line for line in listing.splitlines() if line.startswith("OpenDRIVE 1.7.0 schema")]
+    assert line.endswith(f" {installed / 'opendrive_core.xsd'}  (from user data)")
+    assert "built-in railroad schemas: 1.4 (railroad-1.4.xsd)" in listing
+
+    document = report(BROKEN, code=0)  # the stand-in schema accepts anything
+    schema = document["files"][0]["schema"]
+    assert schema["builtin"] is False
+    assert schema["description"] == (
+        f"OpenDRIVE 1.7.0 schema ({installed / 'opendrive_core.xsd'}, from user data)"
+    )
+    assert document["notes"] == []
+
+
+@pytest.mark.parametrize("kind", ["no-opendrive", "missing", "plain-file"])
+def test_schemas_add_rejects_what_holds_no_schema(
+    tmp_path: Path, isolated_schemas: Path, kind: str
+) -> None:
+    source = tmp_path / "source"
+    if kind == "no-opendrive":
+        (source / "1.7.0").mkdir(parents=True)
+        (source / "1.7.0" / "other.xsd").write_text(STUB_XSD.replace("OpenDRIVE", "Other"), "utf-8")
+    elif kind == "plain-file":
+        source.write_text("hello", "utf-8")
+    result = cli("schemas", "add", source, code=2)
+    assert result.stderr.startswith(f"xodrlint: {source}: ")
+    assert len(result.stderr.splitlines()) == 1
+    assert not (isolated_schemas / "schemas").exists()
+
+
+def fake_wheel(tmp_path: Path) -> Path:
+    with zipfile.ZipFile(tmp_path / "fake.whl", "w") as handle:
+        handle.writestr("qc_opendrive/schema/1.7.0/x.xsd", STUB_XSD)
+        handle.writestr("qc_opendrive/__init__.py", "")
+    return tmp_path / "fake.whl"
+
+
+def test_schemas_fetch_refuses_a_wheel_that_does_not_match_the_pin(
+    tmp_path: Path, isolated_schemas: Path
+) -> None:
+    result = cli("schemas", "fetch", "--wheel", fake_wheel(tmp_path), code=2)
+    assert "does not match the pinned" in result.stderr
+    assert result.stderr.endswith("; not installed\n")
+    assert not (isolated_schemas / "schemas").exists()
+
+
+def test_install_wheel_installs_the_schemas_of_a_verified_wheel(tmp_path: Path) -> None:
+    wheel = fake_wheel(tmp_path)
+    target = tmp_path / "schemas"
+    [item] = install_wheel(wheel, target, hashlib.sha256(wheel.read_bytes()).hexdigest())
+    assert (item.version, item.folder, item.files) == ("1.7.0", target / "1.7.0", 1)
+    assert [p.name for p in target.iterdir()] == ["1.7.0"]
+    assert (target / "1.7.0" / "x.xsd").read_text("utf-8") == STUB_XSD
+
+
+def console(*args: str | Path) -> subprocess.CompletedProcess[str]:
+    if not CONSOLE_SCRIPT.is_file():
+        pytest.skip(f"no console script at {CONSOLE_SCRIPT}")
+    command = [str(CONSOLE_SCRIPT), *map(str, args)]
+    env = {name: value for name, value in os.environ.items() if name not in PLAIN_ENV}
+    return subprocess.run(command, capture_output=True, text=True, timeout=60, check=False, env=env)
+
+
+def test_console_script_exit_codes_and_one_line_errors(tmp_path: Path) -> None:
+    broken = console("check", BROKEN, "-q")
+    assert broken.returncode == 1
+    assert broken.stdout.splitlines()[0].startswith(f"{BROKEN}:22: XS006 [error] ")
+    missing = console("check", tmp_path / "missing.xodr", CLEAN)
+    assert missing.returncode == 2
+    assert missing.stderr == f"xodrlint: {tmp_path / 'missing.xodr'}: no such file or directory\n"
+    assert console("check", CLEAN).returncode == 0
+
+
+@pytest.mark.parametrize("where", ["missing-folder", "a-folder"])
+def test_an_unwritable_output_is_a_usage_error(tmp_path: Path, where: str) -> None:
+    target = tmp_path / "no" / "such" / "report.json" if where == "missing-folder" else tmp_path
+    result = console("check", CLEAN, "--output", target)
+    assert (result.returncode, result.stderr.count("\n")) == (2, 1), result.stderr
+    assert "internal error" not in result.stderr
+
+
+def test_summary_does_not_claim_success_when_an_input_was_unreadable(tmp_path: Path) -> None:
+    result = CliRunner().invoke(app, ["check", str(tmp_path / "gone.xodr"), str(CLEAN)])
+    assert result.exit_code == 2
+    assert "All checks passed" not in result.stdout
+    assert "No findings in 1 of 2 files. 1 could not be read." in result.stdout
