@@ -20,7 +20,7 @@ from lxml import etree
 from xodrlint.document import Document
 from xodrlint.findings import Hit
 from xodrlint.schemas import SchemaLoadError
-from xodrlint.xsd_messages import quoted_list
+from xodrlint.xsd_messages import quoted_list, sentence
 
 _KEY_NOT_FOUND: Final = re.compile(r"value (?P<v>\(.*\)) not found for \w+\(name='(?P<k>[^']+)'\)")
 _DUPLICATE: Final = re.compile(r"duplicated value (?P<v>\(.*\)) for \w+\(name='(?P<k>[^']+)'\)")
@@ -142,10 +142,5 @@ def _message(element: etree._Element | None, reason: str) -> str:
         return f"'{tag}' lacks the required attribute '{missing['a']}'"
     value = _ATTRIBUTE_VALUE.match(reason)
     if value:
-        return f"'{tag}/@{value['a']}' is '{value['v']}': {_sentence(value['why'])}"
-    return f"'{tag}': {_sentence(reason)}"
-
-
-def _sentence(text: str) -> str:
-    text = text.strip().rstrip(".")
-    return text[:1].lower() + text[1:]
+        return f"'{tag}/@{value['a']}' is '{value['v']}': {sentence(value['why'])}"
+    return f"'{tag}': {sentence(reason)}"

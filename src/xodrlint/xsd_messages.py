@@ -220,8 +220,8 @@ def explain_libxml2(raw: str, catalog: TypeCatalog, version: str | None) -> Expl
             fields.get("k"),
         )
     if "evaluate to a node" in body:
-        return Explained(f"{where}: {_sentence(body)}", "key_field", element)
-    return Explained(f"{where}: {_sentence(body)}", "other", element)
+        return Explained(f"{where}: {sentence(body)}", "key_field", element)
+    return Explained(f"{where}: {sentence(body)}", "other", element)
 
 
 def _render(
@@ -291,6 +291,7 @@ def _key_values(raw: str) -> tuple[str, ...]:
     return tuple(value.replace("''", "'") for value in re.findall(r"'((?:[^']|'')*)'", raw))
 
 
-def _sentence(body: str) -> str:
+def sentence(body: str) -> str:
+    """A validator's sentence as a message fragment: lowercase start, no final period."""
     body = body.strip().rstrip(".")
     return body[:1].lower() + body[1:]
