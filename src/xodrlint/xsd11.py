@@ -20,7 +20,12 @@ from lxml import etree
 from xodrlint.document import Document
 from xodrlint.findings import Hit
 from xodrlint.schemas import SchemaLoadError
-from xodrlint.xsd_messages import quoted_list, sentence
+from xodrlint.xsd_messages import (
+    duplicate_key_message,
+    missing_reference_message,
+    quoted_list,
+    sentence,
+)
 
 _KEY_NOT_FOUND: Final = re.compile(r"value (?P<v>\(.*\)) not found for \w+\(name='(?P<k>[^']+)'\)")
 _DUPLICATE: Final = re.compile(r"duplicated value (?P<v>\(.*\)) for \w+\(name='(?P<k>[^']+)'\)")
@@ -96,8 +101,8 @@ def _identity_message(where: str, shown: str, constraint: Any, duplicate: bool) 
         return f"{where} refers to {shown}, which is not defined"
     key_fields = " and ".join(field.path for field in key.fields)
     if duplicate:
-        return f"'{tag}/{fields}' is {shown}, which an earlier '{key.selector.path}' already has"
-    return f"'{tag}/{fields}' names {shown}, but no '{key.selector.path}' has that {key_fields}"
+        return duplicate_key_message(tag, fields, shown, key.selector.path)
+    return missing_reference_message(tag, fields, shown, key.selector.path, key_fields)
 
 
 def _tuple(text: str) -> tuple[str, ...]:

@@ -259,14 +259,12 @@ def _render(
             return f"{where} refers to {f['v']}, which no element of '{f['k']}' defines"
         keyref = catalog.identities[f["k"]]
         field_xpath = " and ".join(x.get("xpath", "") for x in keyref.iterfind(f"{{{XS}}}field"))
-        return (
-            f"'{element}/{field_xpath}' names {f['v']}, but no '{target[0]}' has that {target[1]}"
-        )
+        return missing_reference_message(element, field_xpath, f["v"], target[0], target[1])
     if kind == "duplicate":
         key = catalog.referenced(f["k"])
         if key is None:
             return f"{where} repeats the key {f['v']} of '{f['k']}'"
-        return f"'{element}/{key[1]}' is {f['v']}, which an earlier '{key[0]}' already has"
+        return duplicate_key_message(element, key[1], f["v"], key[0])
     if kind == "bound":
         relation = {
             ("min", "Inclusive"): ">=",
@@ -278,6 +276,18 @@ def _render(
     if kind == "pattern":
         return f"{where} is '{f['v']}', expected a value matching {f['p']}"
     return f"{where} is '{f['v']}', but the schema{in_version} fixes it to '{f['fixed']}'"
+
+
+def missing_reference_message(
+    tag: str, fields: str, values: str, key_selector: str, key_fields: str
+) -> str:
+    """A keyref value no key defines: the same words for libxml2 and xmlschema."""
+    return f"'{tag}/{fields}' names {values}, but no '{key_selector}' has that {key_fields}"
+
+
+def duplicate_key_message(tag: str, fields: str, values: str, key_selector: str) -> str:
+    """A key value used twice: the same words for libxml2 and xmlschema."""
+    return f"'{tag}/{fields}' is {values}, which an earlier '{key_selector}' already has"
 
 
 def _names(expected: str) -> str:
