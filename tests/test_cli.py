@@ -29,9 +29,12 @@ OUTPUT_SCHEMA = json.loads((REPO / "docs" / "json-output.schema.json").read_text
 CONSOLE_SCRIPT = Path(sys.executable).parent / "xodrlint"
 ANSI = re.compile(r"\x1b\[")
 BROKEN_FINDINGS = [
-    (22, "/OpenDRIVE/road[@id='1']/railroad/switch[@id='101']"),
-    (27, "/OpenDRIVE/road[@id='1']/railroad/switch[@id='102']"),
-    (51, "/OpenDRIVE/station[@id='500']/platform[@id='501']/segment"),
+    (25, "XS006", "/OpenDRIVE/road[@id='1']/railroad/switch[@id='101']"),
+    (30, "XS006", "/OpenDRIVE/road[@id='1']/railroad/switch[@id='102']"),
+    (32, "SW006", "/OpenDRIVE/road[@id='1']/railroad/switch[@id='102']/sideTrack"),
+    (47, "RL003", "/OpenDRIVE/road[@id='2']/lanes/laneSection/right/lane[@id='-1']"),
+    (56, "ST004", "/OpenDRIVE/station[@id='500']/platform[@id='501']/segment"),
+    (56, "XS006", "/OpenDRIVE/station[@id='500']/platform[@id='501']/segment"),
 ]
 # Rich must see a pipe, never a forced terminal, whatever the developer's shell sets.
 PLAIN_ENV: dict[str, str | None] = {"FORCE_COLOR": None, "TTY_COMPATIBLE": None, "NO_COLOR": None}
@@ -91,7 +94,7 @@ def test_missing_file_is_exit_2_and_the_other_paths_are_still_linted(tmp_path: P
     result = cli("check", missing, BROKEN, code=2)
     assert result.stderr.splitlines() == [f"xodrlint: {missing}: no such file or directory"]
     assert "Traceback" not in result.output
-    assert f"{BROKEN}:22: XS006 [error]" in result.stdout
+    assert f"{BROKEN}:25: XS006 [error]" in result.stdout
     assert "1 could not be read." in result.stdout
 
 
@@ -118,10 +121,9 @@ def test_a_schema_that_does_not_compile_is_exit_2(tmp_path: Path) -> None:
 
 def test_json_report_of_broken_example() -> None:
     document = report(BROKEN, code=1)
-    assert [(f["code"], f["line"], f["xpath"]) for f in document["findings"]] == [
-        ("XS006", line, xpath) for line, xpath in BROKEN_FINDINGS
-    ]
-    assert {(f["column"], f["path"], f["severity"], f["uid"]) for f in document["findings"]} == {
+    assert [(f["line"], f["code"], f["xpath"]) for f in document["findings"]] == BROKEN_FINDINGS
+    schema_findings = [f for f in document["findings"] if f["code"] == "XS006"]
+    assert {(f["column"], f["path"], f["severity"], f["uid"]) for f in schema_findings} == {
         (None, str(BROKEN), "error", "asam.net:xodr:1.0.0:xml.valid_schema")
     }
     assert document["findings"][0]["message"] == (
@@ -130,15 +132,15 @@ def test_json_report_of_broken_example() -> None:
     [entry] = document["files"]
     assert entry["declared_version"] == "1.7"
     assert entry["schema"]["builtin"] is True
-    assert entry["findings"] == 3
+    assert entry["findings"] == len(BROKEN_FINDINGS)
     assert entry["error"] is None
     assert document["tool"] == {"name": "xodrlint", "version": __version__}
     assert document["summary"] == {
         "files": 1,
         "files_with_findings": 1,
         "unreadable_files": 0,
-        "findings": 3,
-        "by_severity": {"error": 3, "warning": 0, "info": 0},
+        "findings": 6,
+        "by_severity": {"error": 5, "warning": 1, "info": 0},
     }
     assert document["notes"] and "xodrlint schemas fetch" in document["notes"][0]
 
@@ -160,7 +162,7 @@ def test_json_report_lists_a_missing_file_and_stays_complete(tmp_path: Path) -> 
     assert gone["error"] == f"{missing}: no such file or directory"
     assert (gone["schema"], gone["declared_version"], gone["findings"]) == (None, None, 0)
     assert document["summary"]["unreadable_files"] == 1
-    assert codes(document) == ["XS006"] * 3
+    assert codes(document) == [code for _, code, _ in BROKEN_FINDINGS]
 
 
 def test_json_report_of_an_unparsable_file_has_a_column(tmp_path: Path) -> None:
@@ -175,26 +177,26 @@ def test_text_report_when_piped_is_plain_and_unwrapped(tmp_path: Path) -> None:
     long_file = write_variant(tmp_path / "long.xodr", BROKEN, "sideways", value)
     out = cli("check", long_file, code=1, NO_COLOR="1", COLUMNS="40").stdout
     message = f"'switch/@position' is '{value}', expected one of 'dynamic', 'straight', 'turn'"
-    assert f"{long_file}:22: XS006 [error] {message}\n" in out
+    assert f"{long_file}:25: XS006 [error] {message}\n" in out
     assert "\n    /OpenDRIVE/road[@id='1']/railroad/switch[@id='101']\n" in out
     assert "\n    /OpenDRIVE/station[@id='500']/platform[@id='501']/segment\n" in out
-    assert "Found 3 findings (3 errors) in 1 of 1 file.\n" in out
+    assert "Found 6 findings (5 errors, 1 warning) in 1 of 1 file.\n" in out
     assert not ANSI.search(out)
     assert not ANSI.search(cli("check", BROKEN, code=1).stdout)
 
 
 def test_quiet_prints_finding_lines_only() -> None:
     lines = cli("check", BROKEN, "--quiet", code=1).stdout.splitlines()
-    assert [line.split(": XS006 [error] ")[0] for line in lines] == [
-        f"{BROKEN}:{line}" for line, _ in BROKEN_FINDINGS
+    assert [line.split(" [")[0] for line in lines] == [
+        f"{BROKEN}:{line}: {code}" for line, code, _ in BROKEN_FINDINGS
     ]
     assert cli("check", CLEAN, "-q", code=0).stdout == ""
 
 
 def test_show_source_prints_the_source_line() -> None:
     out = cli("check", BROKEN, "--show-source", code=1).stdout
-    assert '    22 |       <switch name="W1" id="101" position="sideways">\n' in out
-    assert '    51 |       <segment roadId="1" sStart="60" sEnd="140" side="up"/>\n' in out
+    assert '    25 |       <switch name="W1" id="101" position="sideways">\n' in out
+    assert '    56 |       <segment roadId="1" sStart="60" sEnd="240" side="up"/>\n' in out
 
 
 @pytest.mark.parametrize("output_format", ["text", "json"])
@@ -206,7 +208,7 @@ def test_output_writes_the_report_to_a_file(tmp_path: Path, output_format: str) 
     if output_format == "json":
         jsonschema.validate(json.loads(written), OUTPUT_SCHEMA)
     else:
-        assert f"{BROKEN}:27: XS006 [error]" in written
+        assert f"{BROKEN}:30: XS006 [error]" in written
     assert [p.name for p in tmp_path.iterdir()] == ["report.out"]  # no temp file left
 
 
@@ -225,7 +227,7 @@ def test_stdin_is_reported_under_stdin_filename() -> None:
     assert [f["path"] for f in document["files"]] == ["maps/x.xodr"]
     assert {f["path"] for f in document["findings"]} == {"maps/x.xodr"}
     out = cli("check", *args, "-q", code=1, stdin=BROKEN.read_bytes()).stdout
-    assert out.startswith("maps/x.xodr:22: XS006 [error] ")
+    assert out.startswith("maps/x.xodr:25: XS006 [error] ")
 
 
 def test_folders_are_walked_for_xodr_files_in_sorted_order(tmp_path: Path) -> None:
@@ -242,10 +244,12 @@ def test_folders_are_walked_for_xodr_files_in_sorted_order(tmp_path: Path) -> No
 @pytest.mark.parametrize(
     ("select", "ignore", "expected"),
     [
-        ("ALL", "", ["XS005", "XS006", "XS006", "XS006"]),
+        ("ALL", "", ["XS005", "XS006", "XS006", "SW006", "RL003", "ST004", "XS006"]),
+        ("ALL", "SW,ST,RL", ["XS005", "XS006", "XS006", "XS006"]),
         ("XS00", "XS006", ["XS005"]),  # the longer ignore wins
         ("XS006", "XS00", ["XS006", "XS006", "XS006"]),  # the longer select wins
         ("XS005,XS006", "XS", ["XS005", "XS006", "XS006", "XS006"]),
+        ("RL,ST004", "", ["RL003", "ST004"]),
         ("XS006", "XS006", []),  # a tie: ignore wins
         ("schema-violation", "XS006", []),  # a name is as specific as its code
         ("asam.net:xodr:1.0.0:xml.valid_schema", "", ["XS006", "XS006", "XS006"]),
@@ -333,7 +337,7 @@ def test_schemas_add_installs_an_official_set(
     assert line.endswith(f" {installed / 'opendrive_core.xsd'}  (from user data)")
     assert "built-in railroad schemas: 1.4 (railroad-1.4.xsd)" in listing
 
-    document = report(BROKEN, code=0)  # the stand-in schema accepts anything
+    document = report(BROKEN, "--select", "XS", code=0)  # the stand-in schema accepts anything
     schema = document["files"][0]["schema"]
     assert schema["builtin"] is False
     assert schema["description"] == (
@@ -394,7 +398,7 @@ def console(*args: str | Path) -> subprocess.CompletedProcess[str]:
 def test_console_script_exit_codes_and_one_line_errors(tmp_path: Path) -> None:
     broken = console("check", BROKEN, "-q")
     assert broken.returncode == 1
-    assert broken.stdout.splitlines()[0].startswith(f"{BROKEN}:22: XS006 [error] ")
+    assert broken.stdout.splitlines()[0].startswith(f"{BROKEN}:25: XS006 [error] ")
     missing = console("check", tmp_path / "missing.xodr", CLEAN)
     assert missing.returncode == 2
     assert missing.stderr == f"xodrlint: {tmp_path / 'missing.xodr'}: no such file or directory\n"
@@ -414,3 +418,13 @@ def test_summary_does_not_claim_success_when_an_input_was_unreadable(tmp_path: P
     assert result.exit_code == 2
     assert "All checks passed" not in result.stdout
     assert "No findings in 1 of 2 files. 1 could not be read." in result.stdout
+
+
+def test_readme_shows_the_real_output_of_the_broken_example(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.chdir(REPO)
+    readme = (REPO / "README.md").read_text("utf-8")
+    shown = readme.split("Output for `examples/broken.xodr`", 1)[1].split("```text\n", 1)[1]
+    shown = shown.split("```", 1)[0]
+    assert cli("check", "examples/broken.xodr", code=1).stdout == shown

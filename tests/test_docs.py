@@ -48,10 +48,29 @@ def test_examples_are_tested_cases(meta: RuleMeta) -> None:
     folder = REPO / "rules" / meta.code
     invalid = [p.read_text() for p in folder.glob("invalid_*.xodr")]
     valid = [p.read_text() for p in folder.glob("valid_*.xodr")]
-    for block in _blocks(example.split("## Example", 1)[1]):
+    bad_blocks = _blocks(example.split("## Example", 1)[1])
+    good_blocks = _blocks(use_instead.split("\n## ", 1)[0])
+    assert bad_blocks and good_blocks, f"{meta.code} needs an example and a fix"
+    for block in bad_blocks:
         assert any(_contains(case, block) for case in invalid), f"{meta.code} example not in a case"
-    for block in _blocks(use_instead.split("\n## ", 1)[0]):
+        assert f"expect: {meta.code}" in block, f"{meta.code} example must mark the bad line"
+    for block in good_blocks:
         assert any(_contains(case, block) for case in valid), f"{meta.code} fix not in a case"
+
+
+@pytest.mark.parametrize("meta", METAS, ids=lambda m: m.code)
+def test_options_and_deferrals_are_documented(meta: RuleMeta) -> None:
+    if meta.options:
+        options = meta.doc.split("## Options", 1)
+        assert len(options) == 2, f"{meta.code} declares options but has no Options section"
+        for option in meta.options:
+            assert f"`{option.name}`" in options[1].split("\n## ", 1)[0], option.name
+            assert f"{option.default:g}" in options[1], f"{option.name} default not documented"
+    else:
+        assert "## Options" not in meta.doc, f"{meta.code} documents options it does not have"
+    related = meta.doc.split("## Related rules", 1)[1].split("\n## ", 1)[0]
+    for code in meta.defers_to:
+        assert code in related, f"{meta.code} defers to {code}; 'Related rules' must say so"
 
 
 def test_docs_rules_are_generated() -> None:

@@ -1,5 +1,8 @@
 """Every case under rules/<CODE>/ is linted with only its rule selected; codes and lines
-must match the file's expect comments exactly."""
+must match the file's expect comments exactly.
+
+rules/families/<pack>/ holds files with several defects that run a whole rule family
+(its rule.toml says which rules) to pin down the one-defect-one-finding chains."""
 
 from __future__ import annotations
 
@@ -15,9 +18,10 @@ from xodrlint.engine import Linter, LintOptions
 from .conftest import REPO
 
 RULES_DIR = REPO / "rules"
-CASES = [
-    case for folder in sorted(RULES_DIR.iterdir()) if folder.is_dir() for case in cases_of(folder)
-]
+FAMILIES_DIR = RULES_DIR / "families"
+RULE_FOLDERS = [f for f in sorted(RULES_DIR.iterdir()) if f.is_dir() and f != FAMILIES_DIR]
+FAMILY_FOLDERS = sorted(f for f in FAMILIES_DIR.iterdir() if f.is_dir())
+CASES = [case for folder in RULE_FOLDERS + FAMILY_FOLDERS for case in cases_of(folder)]
 
 
 def _select(folder: Path) -> tuple[str, ...]:
@@ -46,8 +50,17 @@ def test_every_rule_has_valid_and_invalid_cases() -> None:
 
 def test_every_case_folder_has_a_rule() -> None:
     codes = {meta.code for meta in default_registry().metas}
-    folders = {p.name for p in RULES_DIR.iterdir() if p.is_dir()}
+    folders = {p.name for p in RULE_FOLDERS}
     assert folders <= codes, f"case folders without a rule: {sorted(folders - codes)}"
+
+
+@pytest.mark.parametrize("folder", FAMILY_FOLDERS, ids=lambda f: f.name)
+def test_every_family_runs_several_rules_on_several_defects(folder: Path) -> None:
+    assert len(_select(folder)) >= 1 and (folder / "rule.toml").is_file()
+    cases = cases_of(folder)
+    assert cases, f"{folder.name} has no case"
+    for case in cases:
+        assert len({code for _, code in case.expected}) >= 2, case.path.name
 
 
 def test_case_files_are_named_valid_or_invalid() -> None:

@@ -85,9 +85,7 @@ def _lint(path: Path, schema: Path | None = None, select: tuple[str, ...] = ("AL
     return Linter(default_registry(), LintOptions(select=select, schema=schema)).lint_path(path)
 
 
-@pytest.mark.parametrize(
-    "name", [*OFFICIAL_EXAMPLES, "SUMO-gen_game-rail.xodr", "OpenSCENARIO-1.2_SampleDatabase.xodr"]
-)
+@pytest.mark.parametrize("name", [*OFFICIAL_EXAMPLES, "OpenSCENARIO-1.2_SampleDatabase.xodr"])
 @pytest.mark.parametrize("official", [True, False], ids=["official", "builtin"])
 @needs_shared
 def test_official_examples_are_clean(name: str, official: bool) -> None:
@@ -119,8 +117,11 @@ def test_1_5_keyref_bug_is_repaired(tmp_path: Path) -> None:
             '<sideTrack id="2" s="0.0000000000000000e+00"', '<sideTrack id="77" s="0"'
         )
     )
-    messages = [f.message for f in _lint(broken, SHARED_SCHEMAS).findings]
+    messages = [f.message for f in _lint(broken, SHARED_SCHEMAS, ("XS006",)).findings]
     assert messages == ["'sideTrack/@id' names '77', but no 'road' has that @id"]
+    # with SW004 running, the keyref error is its finding, reported once
+    findings = _lint(broken, SHARED_SCHEMAS, ("XS006", "SW004")).findings
+    assert [f.code for f in findings] == ["SW004"]
 
 
 @needs_shared
@@ -160,7 +161,7 @@ def test_xsd11_schema_reports_on_the_referencing_elements() -> None:
 
 
 def test_builtin_schema_flags_railroad_in_versions_before_1_4() -> None:
-    report = _lint(REPO / "rules" / "XS006" / "invalid_railroad_in_1_3.xodr")
+    report = _lint(REPO / "rules" / "XS006" / "invalid_railroad_in_1_3.xodr", select=("XS006",))
     assert [f.message for f in report.findings] == [
         "'railroad' does not exist in OpenDRIVE 1.3; railroad content starts with OpenDRIVE 1.4"
     ]

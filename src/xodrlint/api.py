@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import os
 import stat
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -32,8 +32,26 @@ def default_registry() -> Registry:
 
 
 @lru_cache(maxsize=8)
-def _linter(select: tuple[str, ...], ignore: tuple[str, ...], schema: Path | None) -> Linter:
-    return Linter(default_registry(), LintOptions(select=select, ignore=ignore, schema=schema))
+def _linter(
+    select: tuple[str, ...],
+    ignore: tuple[str, ...],
+    schema: Path | None,
+    rule_options: tuple[tuple[str, float], ...],
+) -> Linter:
+    options = LintOptions(
+        select=select, ignore=ignore, schema=schema, rule_options=dict(rule_options)
+    )
+    return Linter(default_registry(), options)
+
+
+def _linter_for(
+    select: Sequence[str],
+    ignore: Sequence[str],
+    schema: str | os.PathLike[str] | None,
+    rule_options: Mapping[str, float] | None,
+) -> Linter:
+    options = tuple(sorted((rule_options or {}).items()))
+    return _linter(tuple(select), tuple(ignore), Path(schema) if schema else None, options)
 
 
 def lint_file(
@@ -42,9 +60,13 @@ def lint_file(
     select: Sequence[str] = ("ALL",),
     ignore: Sequence[str] = (),
     schema: str | os.PathLike[str] | None = None,
+    rule_options: Mapping[str, float] | None = None,
 ) -> FileReport:
-    """Lint one file; a file that cannot be read gives a report with ``error`` set."""
-    linter = _linter(tuple(select), tuple(ignore), Path(schema) if schema else None)
+    """Lint one file; a file that cannot be read gives a report with ``error`` set.
+
+    ``rule_options`` sets rule options by name (``{"rail-min-width": 1.0}``).
+    """
+    linter = _linter_for(select, ignore, schema, rule_options)
     return linter.lint_path(Path(path))
 
 
@@ -55,9 +77,10 @@ def lint_bytes(
     select: Sequence[str] = ("ALL",),
     ignore: Sequence[str] = (),
     schema: str | os.PathLike[str] | None = None,
+    rule_options: Mapping[str, float] | None = None,
 ) -> FileReport:
     """Lint the contents of a file; ``path`` is only the name findings carry."""
-    linter = _linter(tuple(select), tuple(ignore), Path(schema) if schema else None)
+    linter = _linter_for(select, ignore, schema, rule_options)
     return linter.lint_bytes(data, path)
 
 

@@ -99,6 +99,21 @@ def check(
     stdin_filename: Annotated[
         str | None, typer.Option(help="The path to report for input read from '-'.")
     ] = None,
+    rail_min_width: Annotated[
+        float | None,
+        typer.Option(
+            help="Narrowest allowed rail/tram lane in metres (RL003; default 1.435).",
+            rich_help_panel="Rule options",
+        ),
+    ] = None,
+    refline_tolerance: Annotated[
+        float | None,
+        typer.Option(
+            help="Largest allowed distance of a rail lane's centre from the reference line "
+            "in metres (RL002; default 0.05).",
+            rich_help_panel="Rule options",
+        ),
+    ] = None,
 ) -> None:
     """Lint OpenDRIVE files and report findings."""
     from xodrlint.run import CheckRequest, run_check
@@ -116,9 +131,16 @@ def check(
             quiet=quiet,
             show_source=show_source,
             stdin_filename=stdin_filename,
+            rule_options=_rule_options(
+                {"rail-min-width": rail_min_width, "refline-tolerance": refline_tolerance}
+            ),
         )
     )
     raise typer.Exit(code)
+
+
+def _rule_options(given: dict[str, float | None]) -> dict[str, float]:
+    return {name: value for name, value in given.items() if value is not None}
 
 
 @app.command("rules")

@@ -8,13 +8,14 @@ one-defect-one-finding policy and sorts.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Final
 
 from xodrlint.document import Document, load_bytes
-from xodrlint.findings import FileReport, Finding, Hit, Severity
+from xodrlint.findings import FileReport, Finding, Hit, Location, RuleOption, Severity
 from xodrlint.model import build_network
 from xodrlint.registry import Registry
 from xodrlint.rules import Rule
@@ -31,6 +32,10 @@ class SelectorError(ValueError):
     """A ``--select``/``--ignore`` entry that names no rule."""
 
 
+class OptionError(ValueError):
+    """A rule option that no rule declares, or a value the option does not take."""
+
+
 @dataclass(frozen=True)
 class LintOptions:
     select: tuple[str, ...] = ("ALL",)
@@ -40,6 +45,8 @@ class LintOptions:
     schema_origin: Origin = Origin.OPTION
     keep_source: bool = False
     """Attach the text of each finding's line to the report (for ``--show-source``)."""
+    rule_options: Mapping[str, float] = field(default_factory=dict)
+    """Rule option values by option name (``rail-min-width``); the rest keep defaults."""
 
 
 def select_rules(registry: Registry, select: Sequence[str], ignore: Sequence[str]) -> list[Rule]:
@@ -58,6 +65,26 @@ def select_rules(registry: Registry, select: Sequence[str], ignore: Sequence[str
         if selected is not None and (ignored is None or selected > ignored):
             chosen.append(candidate)
     return chosen
+
+
+def resolve_rule_options(registry: Registry, values: Mapping[str, float]) -> dict[str, float]:
+    """Every option the registry's rules declare, with ``values`` laid over the defaults."""
+    declared: dict[str, RuleOption] = {}
+    for candidate in registry.rules:
+        for option in candidate.meta.options:
+            declared.setdefault(option.name, option)
+    resolved = {name: option.default for name, option in declared.items()}
+    for name, value in values.items():
+        if name not in declared:
+            known = ", ".join(sorted(declared)) or "none"
+            raise OptionError(f"unknown rule option '{name}' (known: {known})")
+        option = declared[name]
+        if not math.isfinite(value) or value < option.minimum:
+            raise OptionError(
+                f"rule option '{name}' must be a finite number >= {option.minimum:g}, got {value!r}"
+            )
+        resolved[name] = float(value)
+    return resolved
 
 
 def _best(tokens: Iterable[str], candidate: Rule) -> int | None:
@@ -84,6 +111,7 @@ class Linter:
         self.options = options or LintOptions()
         self.rules = select_rules(registry, self.options.select, self.options.ignore)
         self._codes = {r.code for r in self.rules}
+        self._settings = resolve_rule_options(registry, self.options.rule_options)
         finder = SchemaFinder(option=self.options.schema, option_origin=self.options.schema_origin)
         self._validators = SchemaValidators(finder)
 
@@ -110,7 +138,7 @@ class Linter:
         crashes: list[str] = []
         for candidate in self.rules:
             try:
-                hits = list(candidate(network))
+                hits = list(candidate(network, self._settings))
             except Exception as error:  # a rule bug must not hide the other rules' findings
                 crashes.append(f"rule {candidate.code} failed on {path}: {error!r}")
                 continue
@@ -139,6 +167,10 @@ class Linter:
         else:
             line, xpath = hit.line or 1, DOCUMENT_XPATH
         severity = self.options.severity.get(meta.code, meta.severity)
+        related = tuple(Location(doc.line_of(el), doc.xpath_of(el)) for el in hit.related)
+        message = hit.message
+        if related:
+            message += " at line " + ", ".join(str(location.line) for location in related)
         finding = Finding(
             path=doc.path,
             line=line,
@@ -146,22 +178,33 @@ class Linter:
             code=meta.code,
             uid=meta.uid,
             severity=severity,
-            message=hit.message,
+            message=message,
             xpath=xpath,
+            related=related,
         )
-        return _Stamped(finding, hit.deferrable)
+        return _Stamped(finding, meta.defers_to if hit.deferrable else ())
 
 
 @dataclass(frozen=True, slots=True)
 class _Stamped:
     finding: Finding
-    deferrable: bool
+    defers_to: tuple[str, ...]
+    """Codes whose finding on the same element withdraws this one."""
 
 
 def _one_defect_one_finding(stamped: list[_Stamped]) -> list[Finding]:
-    """Drop a schema error a specific rule already reports on the same element."""
-    specific = {s.finding.xpath for s in stamped if not s.finding.code.startswith("XS")}
-    return [s.finding for s in stamped if not (s.deferrable and s.finding.xpath in specific)]
+    """Withdraw each finding a more specific rule reports on the same element.
+
+    Rules declare what they defer to (the catalogue's chains, and the schema rule's
+    key, keyref and missing-child errors that the railroad rules report better); only
+    rules that ran count, so a rule selected alone reports everything it sees.
+    """
+    reported = {(s.finding.xpath, s.finding.code) for s in stamped}
+    return [
+        s.finding
+        for s in stamped
+        if not any((s.finding.xpath, code) in reported for code in s.defers_to)
+    ]
 
 
 def _os_error(error: OSError, shown: str) -> str:

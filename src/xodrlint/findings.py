@@ -31,16 +31,30 @@ class Hit:
     """What a rule yields: the element a defect is about and a message.
 
     ``element`` is ``None`` only where no element exists (a file that does not parse); then
-    ``line`` carries the parser's line. ``deferrable`` marks a schema error that a specific
-    railroad rule reports better (an XSD key, keyref or missing-child error): the engine
-    drops it when such a rule reports on the same element.
+    ``line`` carries the parser's line. ``deferrable`` says the hit may be withdrawn when
+    a rule its rule defers to (:attr:`RuleMeta.defers_to`) reports on the same element;
+    the schema stage clears it for errors no railroad rule reports better. ``related``
+    names other elements the message is about (the first of two duplicates): the engine
+    adds their lines to the message and to the finding.
     """
 
     element: etree._Element | None
     message: str
     line: int | None = None
     column: int | None = None
-    deferrable: bool = False
+    deferrable: bool = True
+    related: tuple[etree._Element, ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
+class Location:
+    """Another place a finding points to, for reports that can show it."""
+
+    line: int
+    xpath: str
+
+    def as_dict(self) -> dict[str, object]:
+        return {"line": self.line, "xpath": self.xpath}
 
 
 @dataclass(frozen=True, slots=True)
@@ -55,6 +69,7 @@ class Finding:
     severity: Severity
     message: str
     xpath: str
+    related: tuple[Location, ...] = ()
 
     @property
     def sort_key(self) -> tuple[str, int, str, int, str]:
@@ -71,6 +86,31 @@ class Finding:
             "severity": str(self.severity),
             "message": self.message,
             "xpath": self.xpath,
+            "related": [location.as_dict() for location in self.related],
+        }
+
+
+@dataclass(frozen=True, slots=True)
+class RuleOption:
+    """A number a user may set for a rule (``--rail-min-width``, ``rail-min-width = ...``).
+
+    Options are global by name: rules that share a name share the value.
+    """
+
+    name: str
+    default: float
+    description: str
+    unit: str = "m"
+    minimum: float = 0.0
+    """Values below this are refused (a negative width or tolerance makes no sense)."""
+
+    def as_dict(self) -> dict[str, object]:
+        return {
+            "name": self.name,
+            "default": self.default,
+            "unit": self.unit,
+            "minimum": self.minimum,
+            "description": self.description,
         }
 
 
@@ -90,6 +130,10 @@ class RuleMeta:
     doc: str
     aliases: tuple[str, ...] = ()
     pack: str = ""
+    options: tuple[RuleOption, ...] = ()
+    defers_to: tuple[str, ...] = ()
+    """Codes of more specific rules: when one of them reports on the same element, this
+    rule's (deferrable) finding there is withdrawn."""
 
     @property
     def uids(self) -> tuple[str, ...]:

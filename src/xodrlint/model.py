@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Final, TypeVar
@@ -80,6 +80,8 @@ class Lane:
     widths: tuple[Cubic, ...]
     """Width entries with ``start`` = ``sOffset`` relative to the lane section; entries
     with unreadable coefficients are left out."""
+    widths_complete: bool = True
+    """Every ``width`` entry of the lane was readable: ``widths`` is the lane's width."""
 
     @property
     def is_rail(self) -> bool:
@@ -104,6 +106,8 @@ class Road:
     length: float | None
     lane_sections: tuple[LaneSection, ...]
     lane_offsets: tuple[Cubic, ...]
+    lane_offsets_complete: bool = True
+    """Every ``laneOffset`` entry was readable: ``lane_offsets`` is the road's offset."""
 
     @property
     def lane_types(self) -> frozenset[str]:
@@ -114,6 +118,18 @@ class Road:
     @property
     def has_rail_lane(self) -> bool:
         return not self.lane_types.isdisjoint(RAIL_LANE_TYPES)
+
+    def section_ranges(self) -> Iterator[tuple[LaneSection, float, float]]:
+        """Each lane section with the s range it covers, where both ends are known.
+
+        A section ends where the next one starts, the last one at the road's length; a
+        section whose start or end is unreadable (or reversed) is left out.
+        """
+        sections = self.lane_sections
+        for index, section in enumerate(sections):
+            following = sections[index + 1].s if index + 1 < len(sections) else self.length
+            if section.s is not None and following is not None and following >= section.s:
+                yield section, section.s, following
 
 
 @dataclass(frozen=True, slots=True)
@@ -262,8 +278,11 @@ def build_network(
 def _read_road(element: etree._Element) -> Road:
     sections: list[LaneSection] = []
     offsets: list[Cubic] = []
+    offset_entries = 0
     for lanes in element.iterchildren("lanes"):
-        offsets.extend(_cubics(lanes.iterchildren("laneOffset"), "s"))
+        entries = list(lanes.iterchildren("laneOffset"))
+        offset_entries += len(entries)
+        offsets.extend(_cubics(entries, "s"))
         sections.extend(
             _read_lane_section(section) for section in lanes.iterchildren("laneSection")
         )
@@ -273,22 +292,30 @@ def _read_road(element: etree._Element) -> Road:
         length=number(element, "length"),
         lane_sections=tuple(sections),
         lane_offsets=tuple(offsets),
+        lane_offsets_complete=len(offsets) == offset_entries,
     )
 
 
 def _read_lane_section(element: etree._Element) -> LaneSection:
     lanes = [
-        Lane(
-            element=lane,
-            id=integer(lane, "id"),
-            side=side.tag,
-            type=lane.get("type"),
-            widths=_cubics(lane.iterchildren("width"), "sOffset"),
-        )
+        _read_lane(lane, side.tag)
         for side in element.iterchildren("left", "center", "right")
         for lane in side.iterchildren("lane")
     ]
     return LaneSection(element=element, s=number(element, "s"), lanes=tuple(lanes))
+
+
+def _read_lane(element: etree._Element, side: str) -> Lane:
+    entries = list(element.iterchildren("width"))
+    widths = _cubics(entries, "sOffset")
+    return Lane(
+        element=element,
+        id=integer(element, "id"),
+        side=side,
+        type=element.get("type"),
+        widths=widths,
+        widths_complete=len(widths) == len(entries),
+    )
 
 
 def _cubics(entries: Iterable[etree._Element], start_attribute: str) -> tuple[Cubic, ...]:

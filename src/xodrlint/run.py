@@ -6,14 +6,14 @@ import io
 import os
 import sys
 import tempfile
-from collections.abc import Callable
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Final, TextIO
 
 from xodrlint import __version__
 from xodrlint.api import Input, collect_inputs, default_registry, exit_code, lint_inputs
-from xodrlint.engine import Linter, LintOptions, SelectorError
+from xodrlint.engine import Linter, LintOptions, OptionError, SelectorError
 from xodrlint.findings import FileReport, RunResult, Severity
 from xodrlint.formatters import available, get_formatter
 from xodrlint.schemas import SCHEMA_PATH_ENV, SchemaFinder, SchemaLoadError, builtin_set
@@ -40,6 +40,7 @@ class CheckRequest:
     quiet: bool = False
     show_source: bool = False
     stdin_filename: str | None = None
+    rule_options: Mapping[str, float] = field(default_factory=dict)
 
 
 def _error(message: str) -> None:
@@ -68,10 +69,11 @@ def run_check(request: CheckRequest) -> int:
         ignore=request.ignore,
         schema=request.schema,
         keep_source=request.show_source,
+        rule_options=request.rule_options,
     )
     try:
         linter = Linter(registry, options)
-    except SelectorError as error:
+    except (SelectorError, OptionError) as error:
         _error(str(error))
         return 2
     inputs = list(collect_inputs(request.paths))
@@ -152,6 +154,8 @@ def print_rules(output_format: str) -> int:
                 "aliases": list(m.aliases),
                 "summary": m.summary,
                 "pack": m.pack,
+                "options": [option.as_dict() for option in m.options],
+                "defers_to": list(m.defers_to),
             }
             for m in registry.metas
         ]

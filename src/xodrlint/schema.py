@@ -173,6 +173,7 @@ class BuiltinRailroadValidator:
                     subtree,
                     f"'{subtree.tag}' does not exist in OpenDRIVE {doc.effective}; "
                     "railroad content starts with OpenDRIVE 1.4",
+                    deferrable=False,
                 )
             return
         schema = self._inner._schema

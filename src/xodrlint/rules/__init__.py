@@ -2,8 +2,10 @@
 
 A rule is a function of the :class:`~xodrlint.model.RailNetwork` that yields
 :class:`~xodrlint.findings.Hit` values, wrapped by :func:`rule` with its code, name, UID
-and default severity; its module docstring is its doc page. Rules do no I/O, know no
-configuration and never print. A rule pack is a package of rule modules, registered
+and default severity; its module docstring is its doc page. A rule that declares
+:class:`~xodrlint.findings.RuleOption` values takes them as a second argument, already
+resolved (user value or default). Rules do no I/O, never read configuration themselves
+and never print. A rule pack is a package of rule modules, registered
 under the ``xodrlint.rules`` entry-point group (see :func:`collect`).
 """
 
@@ -14,17 +16,20 @@ import inspect
 import pkgutil
 import re
 import sys
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from types import ModuleType
 from typing import Final
 
-from xodrlint.findings import Hit, RuleMeta, Severity
+from xodrlint.findings import Hit, RuleMeta, RuleOption, Severity
 from xodrlint.model import RailNetwork
 
-__all__ = ["Hit", "RailNetwork", "Rule", "Severity", "collect", "rule"]
+__all__ = ["Hit", "RailNetwork", "Rule", "RuleOption", "Settings", "Severity", "collect", "rule"]
 
-CheckFunction = Callable[[RailNetwork], Iterable[Hit]]
+Settings = Mapping[str, float]
+"""Option values by option name."""
+PlainCheck = Callable[[RailNetwork], Iterable[Hit]]
+ConfiguredCheck = Callable[[RailNetwork, Settings], Iterable[Hit]]
 
 CODE_PATTERN: Final = re.compile(r"^[A-Z]{2,4}\d{3}$")
 NAME_PATTERN: Final = re.compile(r"^[a-z][a-z0-9]*(?:-[a-z0-9]+)*$")
@@ -33,14 +38,16 @@ NAME_PATTERN: Final = re.compile(r"^[a-z][a-z0-9]*(?:-[a-z0-9]+)*$")
 @dataclass(frozen=True, slots=True)
 class Rule:
     meta: RuleMeta
-    check: CheckFunction
+    check: ConfiguredCheck
 
     @property
     def code(self) -> str:
         return self.meta.code
 
-    def __call__(self, network: RailNetwork) -> Iterator[Hit]:
-        yield from self.check(network)
+    def __call__(self, network: RailNetwork, settings: Settings | None = None) -> Iterator[Hit]:
+        values = {option.name: option.default for option in self.meta.options}
+        values.update(settings or {})
+        yield from self.check(network, values)
 
 
 def rule(
@@ -50,23 +57,49 @@ def rule(
     uid: str,
     severity: Severity,
     aliases: Iterable[str] = (),
-) -> Callable[[CheckFunction], Rule]:
-    """Declare a rule; the docstring of the module defining it is its doc page."""
+    options: Iterable[RuleOption] = (),
+    defers_to: Iterable[str] = (),
+) -> Callable[[PlainCheck | ConfiguredCheck], Rule]:
+    """Declare a rule; the docstring of the module defining it is its doc page.
+
+    ``defers_to`` names the more specific rules that report a defect this rule would
+    also see on the same element (one defect, one finding); the engine withdraws this
+    rule's finding there when one of them reports it.
+    """
     if not CODE_PATTERN.match(code):
         raise ValueError(f"rule code {code!r} is not two to four capitals and three digits")
     if not NAME_PATTERN.match(name):
         raise ValueError(f"rule name {name!r} is not kebab-case")
+    declared = tuple(options)
 
-    def wrap(check: CheckFunction) -> Rule:
+    def wrap(check: PlainCheck | ConfiguredCheck) -> Rule:
         module = sys.modules.get(check.__module__)
         doc = inspect.cleandoc(module.__doc__ or "") if module else ""
         first_line = doc.splitlines()[0] if doc else ""
         summary = first_line.split(":", 1)[1].strip() if ":" in first_line else first_line
         pack = check.__module__.rsplit(".", 1)[0]
-        meta = RuleMeta(code, name, uid, severity, summary.rstrip("."), doc, tuple(aliases), pack)
-        return Rule(meta, check)
+        meta = RuleMeta(
+            code,
+            name,
+            uid,
+            severity,
+            summary.rstrip("."),
+            doc,
+            tuple(aliases),
+            pack,
+            declared,
+            tuple(defers_to),
+        )
+        return Rule(meta, _configured(check, takes_settings=bool(declared)))
 
     return wrap
+
+
+def _configured(check: PlainCheck | ConfiguredCheck, *, takes_settings: bool) -> ConfiguredCheck:
+    if takes_settings:
+        return check  # type: ignore[return-value]
+    plain: PlainCheck = check  # type: ignore[assignment]
+    return lambda network, _settings: plain(network)
 
 
 def collect(package: ModuleType | str) -> tuple[Rule, ...]:

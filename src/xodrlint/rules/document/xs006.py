@@ -48,6 +48,7 @@ from xodrlint.rules.document._report import stage_hits
     name="schema-violation",
     uid="asam.net:xodr:1.0.0:xml.valid_schema",
     severity=Severity.ERROR,
+    defers_to=("SW004", "SW007", "SW008", "PT001", "ST001", "ST002", "ST003", "ST007", "ST009"),
 )
 def schema_violation(network: RailNetwork) -> Iterator[Hit]:
     return stage_hits(network, "XS006")

@@ -1,0 +1,196 @@
+"""Lateral profiles: ``laneOffset`` and lane ``width`` as the piecewise cubics they are.
+
+A lane's centre and width along a lane section are sums of cubic polynomials whose
+pieces start at different s. On every stretch between two consecutive piece starts the
+sum is itself one cubic, so its extremes are exact: the stretch's two ends and the
+roots of its derivative (a quadratic) inside it. Each piece is evaluated on its closed
+stretch, so the value just before a new ``width`` or ``laneOffset`` entry starts counts
+too. Rules use this to say "anywhere along the lane section" without sampling.
+"""
+
+from __future__ import annotations
+
+import bisect
+import itertools
+import math
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+from typing import Final
+
+from xodrlint.model import Cubic, Lane, LaneSection, Road
+
+#: Absolute tolerance for lengths and s-coordinates (the catalogue's 1e-6 m).
+S_TOLERANCE: Final = 1e-6
+
+
+@dataclass(frozen=True, slots=True)
+class Poly:
+    """``a + b·x + c·x² + d·x³`` with ``x = s - base`` (``base`` an absolute s)."""
+
+    base: float
+    a: float
+    b: float
+    c: float
+    d: float
+
+    @classmethod
+    def of(cls, cubic: Cubic, origin: float = 0.0) -> Poly:
+        return cls(origin + cubic.start, cubic.a, cubic.b, cubic.c, cubic.d)
+
+    def shifted(self, base: float) -> Poly:
+        """The same polynomial, written around ``base``."""
+        h = base - self.base
+        a = self.a + h * (self.b + h * (self.c + h * self.d))
+        b = self.b + h * (2 * self.c + 3 * h * self.d)
+        c = self.c + 3 * h * self.d
+        return Poly(base, a, b, c, self.d)
+
+    def scaled(self, factor: float) -> Poly:
+        return Poly(self.base, factor * self.a, factor * self.b, factor * self.c, factor * self.d)
+
+    def at(self, s: float) -> float:
+        x = s - self.base
+        return self.a + x * (self.b + x * (self.c + x * self.d))
+
+
+@dataclass(frozen=True, slots=True)
+class Piecewise:
+    """Cubic pieces, each valid from its base to the next piece's base.
+
+    ``zero_before`` says the function is 0 before its first piece (a road without
+    ``laneOffset`` has no offset); otherwise it is undefined there (a lane width).
+    """
+
+    pieces: tuple[Poly, ...]
+    zero_before: bool = False
+
+    def __post_init__(self) -> None:
+        ordered = tuple(sorted(self.pieces, key=lambda piece: piece.base))
+        object.__setattr__(self, "pieces", ordered)
+
+    @property
+    def defined_from(self) -> float:
+        """The first s the function has a value at."""
+        if self.zero_before or not self.pieces:
+            return -math.inf
+        return self.pieces[0].base
+
+    @property
+    def starts(self) -> list[float]:
+        return [piece.base for piece in self.pieces]
+
+    def piece_at(self, s: float) -> Poly | None:
+        """The piece that holds from ``s`` on; ``None`` where the function is undefined."""
+        index = bisect.bisect_right(self.starts, s + S_TOLERANCE) - 1
+        if index >= 0:
+            return self.pieces[index]
+        return Poly(s, 0.0, 0.0, 0.0, 0.0) if self.zero_before else None
+
+
+@dataclass(frozen=True, slots=True)
+class Extremes:
+    low: float
+    s_low: float
+    high: float
+    s_high: float
+
+
+def extremes(terms: Sequence[tuple[float, Piecewise]], start: float, end: float) -> Extremes | None:
+    """The exact minimum and maximum of ``Σ weight·function`` over ``[start, end]``.
+
+    Where a term only starts inside the range (a first ``width`` entry with ``sOffset``
+    > 0), the range begins there: nothing is known before it. ``None`` when no part of
+    the range has every term defined, or a value is not finite.
+    """
+    start = max([start, *(fn.defined_from for _, fn in terms)])
+    if start > end + S_TOLERANCE:
+        return None
+    end = max(start, end)
+    breaks = sorted(
+        {b for _, fn in terms for b in fn.starts if start + S_TOLERANCE < b < end - S_TOLERANCE}
+    )
+    bounds = [start, *breaks, end]
+    found: Extremes | None = None
+    for low_s, high_s in itertools.pairwise(bounds):
+        summed = Poly(low_s, 0.0, 0.0, 0.0, 0.0)
+        for weight, fn in terms:
+            piece = fn.piece_at(low_s)
+            if piece is None:
+                return None
+            part = piece.shifted(low_s).scaled(weight)
+            summed = Poly(
+                low_s, summed.a + part.a, summed.b + part.b, summed.c + part.c, summed.d + part.d
+            )
+        for s in _candidates(summed, low_s, high_s):
+            value = summed.at(s)
+            if not math.isfinite(value):
+                return None
+            if found is None:
+                found = Extremes(value, s, value, s)
+            elif value < found.low:
+                found = Extremes(value, s, found.high, found.s_high)
+            elif value > found.high:
+                found = Extremes(found.low, found.s_low, value, s)
+    return found
+
+
+def _candidates(poly: Poly, start: float, end: float) -> Iterator[float]:
+    """The ends of ``[start, end]`` and the stationary points of ``poly`` inside it."""
+    yield start
+    yield end
+    length = end - start
+    for x in _quadratic_roots(3 * poly.d, 2 * poly.c, poly.b):
+        if 0 < x < length:
+            yield start + x
+
+
+def _quadratic_roots(a: float, b: float, c: float) -> tuple[float, ...]:
+    if a == 0:
+        return (-c / b,) if b != 0 else ()
+    discriminant = b * b - 4 * a * c
+    if not math.isfinite(discriminant) or discriminant < 0:
+        return ()
+    # the numerically stable pair: no cancellation between b and the square root
+    q = -0.5 * (b + math.copysign(math.sqrt(discriminant), b))
+    if q == 0:
+        return (0.0,)
+    return (q / a, c / q)
+
+
+def lane_offset(road: Road) -> Piecewise | None:
+    """The road's ``laneOffset`` (0 where none is given); ``None`` if an entry is unreadable."""
+    if not road.lane_offsets_complete:
+        return None
+    return Piecewise(tuple(Poly.of(cubic) for cubic in road.lane_offsets), zero_before=True)
+
+
+def lane_width(lane: Lane, section_start: float) -> Piecewise | None:
+    """The lane's width along its section; ``None`` if it has no readable ``width`` entries
+    (a lane described by ``border`` entries, or an unreadable coefficient)."""
+    if not lane.widths or not lane.widths_complete:
+        return None
+    return Piecewise(tuple(Poly.of(cubic, section_start) for cubic in lane.widths))
+
+
+def centre_terms(
+    road: Road, section: LaneSection, section_start: float, lane: Lane
+) -> list[tuple[float, Piecewise]] | None:
+    """The lateral position of ``lane``'s centre line as weighted terms for :func:`extremes`.
+
+    Left of the centre lane t grows, right of it t falls: the centre of lane ``k`` lies at
+    the offset plus (or minus) the widths of lanes 1..k-1 and half the width of lane k.
+    ``None`` when a lane in between is missing or has no usable width.
+    """
+    offset = lane_offset(road)
+    if offset is None or lane.id is None or lane.id == 0:
+        return None
+    sign = 1.0 if lane.id > 0 else -1.0
+    by_id = {other.id: other for other in section.lanes if other.side == lane.side}
+    terms = [(1.0, offset)]
+    for step in range(1, abs(lane.id) + 1):
+        inner = by_id.get(int(sign) * step)
+        width = lane_width(inner, section_start) if inner is not None else None
+        if width is None:
+            return None
+        terms.append((sign * (0.5 if step == abs(lane.id) else 1.0), width))
+    return terms

@@ -1,0 +1,45 @@
+"""What several rule packs share: tolerances, number formatting, duplicate detection."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Iterator
+from typing import Final, TypeVar
+
+from xodrlint.profile import S_TOLERANCE
+
+__all__ = ["S_TOLERANCE", "later_duplicates", "metres", "quoted", "within"]
+
+_T = TypeVar("_T")
+
+_NONE: Final = "(none)"
+
+
+def quoted(value: object) -> str:
+    """``'value'`` for messages, or a word saying it is not there."""
+    return _NONE if value is None else f"'{value}'"
+
+
+def metres(value: float) -> str:
+    """A length or s-coordinate for messages: up to six decimals, no trailing zeros."""
+    text = f"{value:.6f}".rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+def within(value: float, low: float, high: float) -> bool:
+    """``low <= value <= high`` with the catalogue's tolerance on both ends."""
+    return low - S_TOLERANCE <= value <= high + S_TOLERANCE
+
+
+def later_duplicates(
+    items: Iterable[_T], key_of: Callable[[_T], str | None]
+) -> Iterator[tuple[_T, _T]]:
+    """Each item whose key an earlier item already has, with that first item."""
+    first: dict[str, _T] = {}
+    for item in items:
+        key = key_of(item)
+        if key is None:
+            continue
+        if key in first:
+            yield item, first[key]
+        else:
+            first[key] = item

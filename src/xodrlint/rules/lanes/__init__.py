@@ -1,0 +1,1 @@
+"""The rail lanes rule pack (RL): lanes of type `rail` and `tram`."""

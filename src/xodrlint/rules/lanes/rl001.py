@@ -1,0 +1,72 @@
+"""RL001 more-than-one-rail-lane: a lane section holds more than one rail or tram lane.
+
+## What it does
+Reports a `laneSection` that holds two or more lanes of type `rail` or `tram`, once per
+lane section.
+
+## Why is this bad?
+ASAM OpenDRIVE 1.7 models each railroad track as its own road with exactly one rail lane:
+switches, stations and partner links name roads, not lanes. A second rail lane in the
+same lane section is a track that no switch can reach and no platform can name.
+
+## Example
+```xml
+<laneSection s="0"> <!-- expect: RL001 -->
+  <left>
+    <lane id="1" type="rail" level="false"><width sOffset="0" a="1.5" b="0" c="0" d="0"/></lane>
+  </left>
+  <center><lane id="0" type="none" level="false"/></center>
+  <right>
+    <lane id="-1" type="rail" level="false"><width sOffset="0" a="1.5" b="0" c="0" d="0"/></lane>
+  </right>
+</laneSection>
+```
+
+Use instead:
+```xml
+<laneSection s="0">
+  <center><lane id="0" type="none" level="false"/></center>
+  <right>
+    <lane id="-1" type="rail" level="false"><width sOffset="0" a="1.5" b="0" c="0" d="0"/></lane>
+    <lane id="-2" type="sidewalk" level="false"><width sOffset="0" a="2" b="0" c="0" d="0"/></lane>
+  </right>
+</laneSection>
+```
+
+## Related rules
+RL002 judges the centring of a rail lane only in lane sections with exactly one of them.
+RL004 reports roads that mix rail and road traffic.
+
+## References
+- ASAM OpenDRIVE 1.7, chapter "Railroads"; rule UID
+  `asam.net:xodr:1.7.0:road.railroad.one_rail_per_road`
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from xodrlint.findings import Hit, Severity
+from xodrlint.model import RailNetwork
+from xodrlint.rules import rule
+from xodrlint.rules._shared import metres, quoted
+
+
+@rule(
+    code="RL001",
+    name="more-than-one-rail-lane",
+    uid="asam.net:xodr:1.7.0:road.railroad.one_rail_per_road",
+    severity=Severity.ERROR,
+)
+def more_than_one_rail_lane(network: RailNetwork) -> Iterator[Hit]:
+    for road in network.roads:
+        for section in road.lane_sections:
+            rails = section.rail_lanes
+            if len(rails) > 1:
+                ids = ", ".join(quoted(lane.element.get("id")) for lane in rails)
+                where = f" at s={metres(section.s)}" if section.s is not None else ""
+                yield Hit(
+                    section.element,
+                    f"lane section{where} of road {quoted(road.id)} holds {len(rails)} rail "
+                    f"or tram lanes ({ids}); a track road has one",
+                )

@@ -1,0 +1,118 @@
+"""RL002 refline-not-centered: a rail lane's centre is away from the road's reference line.
+
+## What it does
+On a road whose left and right lanes are only `rail`/`tram` lanes and non-traffic lanes
+(`none`, `border`, `shoulder`, `curb`, `sidewalk`, `walking`, `median`; the type of the
+centre lane, which has no width, does not count), reports the rail lane of a lane section
+with exactly one rail or tram lane when the centre line of that lane is more than the
+tolerance (0.05 m by default) away from the reference line anywhere along the lane
+section; once per lane section.
+
+The centre is computed exactly: `laneOffset` and the `width` of every lane between the
+centre lane and the rail lane are the cubic polynomials they are, each piece on its whole
+stretch, including the point where a new `width` or `laneOffset` entry starts; the
+largest distance is found where the polynomial's derivative vanishes, not by sampling.
+
+## Why is this bad?
+ASAM OpenDRIVE 1.7 says the reference line of a railroad track lies in the centre of its
+rail lane: the reference line is the track axis that switches, stations and vehicle
+positions refer to. A rail lane off the reference line puts trains beside their own
+track.
+
+## Example
+```xml
+<laneOffset s="0" a="0.75" b="0.0024" c="-0.000024" d="0"/>
+<laneSection s="0">
+  <center><lane id="0" type="none" level="false"/></center>
+  <right>
+    <lane id="-1" type="rail" level="false"> <!-- expect: RL002 -->
+      <width sOffset="0" a="1.5" b="0" c="0" d="0"/>
+    </lane>
+  </right>
+```
+
+Use instead:
+```xml
+<laneOffset s="0" a="0.75" b="0" c="0" d="0"/>
+<laneSection s="0">
+  <center><lane id="0" type="none" level="false"/></center>
+  <right>
+    <lane id="-1" type="rail" level="false"><width sOffset="0" a="1.5" b="0" c="0" d="0"/></lane>
+    <lane id="-2" type="sidewalk" level="false"><width sOffset="0" a="2" b="0" c="0" d="0"/></lane>
+  </right>
+</laneSection>
+```
+
+## Options
+- `refline-tolerance` (metres, default 0.05): the largest distance allowed between the
+  centre of the rail lane and the reference line. Command line: `--refline-tolerance`.
+
+## Related rules
+RL001 reports a lane section with several rail lanes; RL002 only judges lane sections
+with exactly one. RL004 reports roads shared with road traffic, which RL002 leaves out.
+Lanes described by `border` instead of `width`, and unreadable coefficients, leave the
+lane section unjudged.
+
+## References
+- ASAM OpenDRIVE 1.7, chapter "Railroads" and chapter "Lanes" (lane offset, lane width);
+  rule UID `asam.net:xodr:1.7.0:road.railroad.rail_refline_centered`
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import Final
+
+from xodrlint.findings import Hit, RuleOption, Severity
+from xodrlint.model import NON_TRAFFIC_LANE_TYPES, RAIL_LANE_TYPES, RailNetwork, Road
+from xodrlint.profile import S_TOLERANCE, centre_terms, extremes
+from xodrlint.rules import Settings, rule
+from xodrlint.rules._shared import metres
+from xodrlint.rules.lanes._labels import lane_label
+
+TOLERANCE: Final = RuleOption(
+    name="refline-tolerance",
+    default=0.05,
+    description="Largest distance of a rail lane's centre from the reference line",
+)
+_TRACK_ROAD_LANE_TYPES: Final = RAIL_LANE_TYPES | NON_TRAFFIC_LANE_TYPES
+
+
+def _is_track_road(road: Road) -> bool:
+    # the centre lane has no width and carries nothing, whatever its type says
+    lanes = [
+        lane for section in road.lane_sections for lane in section.lanes if lane.side != "center"
+    ]
+    return any(lane.is_rail for lane in lanes) and all(
+        lane.type in _TRACK_ROAD_LANE_TYPES for lane in lanes
+    )
+
+
+@rule(
+    code="RL002",
+    name="refline-not-centered",
+    uid="asam.net:xodr:1.7.0:road.railroad.rail_refline_centered",
+    severity=Severity.WARNING,
+    options=(TOLERANCE,),
+)
+def refline_not_centered(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
+    tolerance = settings[TOLERANCE.name]
+    for road in network.roads:
+        if not _is_track_road(road):
+            continue
+        for section, start, end in road.section_ranges():
+            rails = section.rail_lanes
+            if len(rails) != 1:
+                continue
+            terms = centre_terms(road, section, start, rails[0])
+            found = extremes(terms, start, end) if terms is not None else None
+            if found is None:
+                continue
+            distance, s = max((abs(found.low), found.s_low), (abs(found.high), found.s_high))
+            if distance > tolerance + S_TOLERANCE:
+                yield Hit(
+                    rails[0].element,
+                    f"the centre of {rails[0].type} {lane_label(rails[0], road, start)} is "
+                    f"{metres(distance)} m from the reference line at s={metres(s)} "
+                    f"(tolerance {metres(tolerance)} m)",
+                )

@@ -1,0 +1,88 @@
+"""RL003 rail-lane-too-narrow: a rail or tram lane is narrower than the track gauge.
+
+## What it does
+Reports a lane of type `rail` or `tram` whose width drops below the minimum (1.435 m,
+standard gauge, by default) anywhere along its lane section; once per lane section.
+
+The width is computed exactly: each `width` entry is the cubic polynomial it is, on its
+whole stretch up to where the next entry starts, and the narrowest point is found where
+the polynomial's derivative vanishes, not by sampling.
+
+## Why is this bad?
+ASAM OpenDRIVE 1.7 says the width of a rail lane shall cover the track it carries. A
+rail lane narrower than the gauge cannot hold the track (a width of 0 or a negative width
+makes the lane vanish), and clearance and platform-gap checks built on it go wrong.
+
+## Example
+```xml
+<center><lane id="0" type="none" level="false"/></center>
+<right>
+  <lane id="-1" type="rail" level="false"> <!-- expect: RL003 -->
+    <width sOffset="0" a="1.5" b="-0.02" c="0.0002" d="0"/>
+  </lane>
+</right>
+```
+
+Use instead:
+```xml
+<laneSection s="0">
+  <center><lane id="0" type="none" level="false"/></center>
+  <right>
+    <lane id="-1" type="rail" level="false"><width sOffset="0" a="1.435" b="0" c="0" d="0"/></lane>
+  </right>
+</laneSection>
+```
+
+## Options
+- `rail-min-width` (metres, default 1.435): the narrowest allowed rail or tram lane. Set
+  it for narrow-gauge networks (for example 1.0 for metre gauge). Command line:
+  `--rail-min-width`.
+
+## Related rules
+A lane described by `border` instead of `width`, or with an unreadable coefficient, is
+not judged; the schema (XS006) reports unreadable values.
+
+## References
+- ASAM OpenDRIVE 1.7, chapter "Railroads" and chapter "Lanes" (lane width); rule UID
+  `asam.net:xodr:1.7.0:road.railroad.rail_lane_width_validity`
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import Final
+
+from xodrlint.findings import Hit, RuleOption, Severity
+from xodrlint.model import RailNetwork
+from xodrlint.profile import S_TOLERANCE, extremes, lane_width
+from xodrlint.rules import Settings, rule
+from xodrlint.rules._shared import metres
+from xodrlint.rules.lanes._labels import lane_label
+
+MIN_WIDTH: Final = RuleOption(
+    name="rail-min-width",
+    default=1.435,
+    description="Narrowest allowed rail or tram lane (standard gauge by default)",
+)
+
+
+@rule(
+    code="RL003",
+    name="rail-lane-too-narrow",
+    uid="asam.net:xodr:1.7.0:road.railroad.rail_lane_width_validity",
+    severity=Severity.ERROR,
+    options=(MIN_WIDTH,),
+)
+def rail_lane_too_narrow(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
+    minimum = settings[MIN_WIDTH.name]
+    for road in network.roads:
+        for section, start, end in road.section_ranges():
+            for lane in section.rail_lanes:
+                width = lane_width(lane, start)
+                found = extremes([(1.0, width)], start, end) if width is not None else None
+                if found is not None and found.low < minimum - S_TOLERANCE:
+                    yield Hit(
+                        lane.element,
+                        f"{lane.type} {lane_label(lane, road, start)} is {metres(found.low)} m wide "
+                        f"at s={metres(found.s_low)}, narrower than {metres(minimum)} m",
+                    )

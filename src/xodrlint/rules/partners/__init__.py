@@ -1,0 +1,1 @@
+"""The partner switches rule pack (PT): `switch/partner`."""

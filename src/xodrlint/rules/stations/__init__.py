@@ -1,0 +1,1 @@
+"""The stations rule pack (ST): `station`, `platform` and `segment`."""

@@ -1,0 +1,74 @@
+"""ST004 segment-s-out-of-range: a platform segment starts or ends off its road.
+
+## What it does
+Reports a `segment` whose `@sStart` or `@sEnd` lies outside `[0, length]` of the road
+its `@roadId` names (with a tolerance of 1e-6 m).
+
+## Why is this bad?
+This is an inference: `sStart` and `sEnd` are s-coordinates along the segment's road, and
+an s-coordinate only has a meaning between 0 and the road's `@length`. A platform edge
+past the end of its track cannot be placed.
+
+## Example
+```xml
+  <station name="Central" id="S1" type="small">
+    <platform name="Platform 1" id="P1">
+      <segment roadId="1" sStart="120" sEnd="200" side="right"/>
+      <segment roadId="1" sStart="120" sEnd="200.00001" side="left"/> <!-- expect: ST004 -->
+    </platform>
+  </station>
+```
+
+Use instead:
+```xml
+  <station name="Central" id="S1" type="small">
+    <platform name="Platform 1" id="P1">
+      <!-- 0 and the road length are on the road -->
+      <segment roadId="1" sStart="0" sEnd="200" side="right"/>
+    </platform>
+  </station>
+```
+
+## Related rules
+ST003 reports a segment on an unknown road; ST004 cannot judge that one. ST005 and ST006
+report reversed and empty segments, which are separate defects.
+
+## References
+- ASAM OpenDRIVE 1.7, chapter "Railroads", section "Stations" (segments); rule UID
+  `xodrlint:xodr:1.4.0:road.railroad.segment.s_in_road_range`
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from xodrlint.findings import Hit, Severity
+from xodrlint.model import RailNetwork
+from xodrlint.rules import rule
+from xodrlint.rules._shared import metres, quoted, within
+from xodrlint.rules.stations._walk import segments_with_platform
+
+
+@rule(
+    code="ST004",
+    name="segment-s-out-of-range",
+    uid="xodrlint:xodr:1.4.0:road.railroad.segment.s_in_road_range",
+    severity=Severity.ERROR,
+    defers_to=("ST003",),
+)
+def segment_s_out_of_range(network: RailNetwork) -> Iterator[Hit]:
+    for segment, platform in segments_with_platform(network):
+        road = network.road_by_id.get(segment.road_id) if segment.road_id is not None else None
+        if road is None or road.length is None:
+            continue
+        outside = [
+            f"{name}={metres(value)}"
+            for name, value in (("sStart", segment.s_start), ("sEnd", segment.s_end))
+            if value is not None and not within(value, 0.0, road.length)
+        ]
+        if outside:
+            yield Hit(
+                segment.element,
+                f"segment of platform {quoted(platform.id)} has {' and '.join(outside)}, "
+                f"outside road '{road.id}' (0 to {metres(road.length)})",
+            )

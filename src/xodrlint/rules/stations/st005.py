@@ -1,0 +1,67 @@
+"""ST005 segment-s-reversed: a platform segment starts after it ends.
+
+## What it does
+Reports a `segment` whose `@sStart` is greater than its `@sEnd` (by more than 1e-6 m).
+
+## Why is this bad?
+This is an inference: the standard gives a segment's extent as `sStart` to `sEnd` along
+the road, and its examples always run from the smaller s to the larger; which way the
+platform faces is `@side`, not the order of the two ends. Readers that take the range as
+given get an empty or negative platform.
+
+## Example
+```xml
+  <station name="Central" id="S1" type="small">
+    <platform name="Platform 1" id="P1">
+      <segment roadId="1" sStart="0" sEnd="80" side="right"/>
+      <segment roadId="1" sStart="140" sEnd="60" side="left"/> <!-- expect: ST005 -->
+    </platform>
+  </station>
+```
+
+Use instead:
+```xml
+  <station name="Central" id="S1" type="small">
+    <platform name="Platform 1" id="P1">
+      <segment roadId="1" sStart="0" sEnd="80" side="right"/>
+      <segment roadId="1" sStart="120" sEnd="200" side="left"/>
+    </platform>
+  </station>
+```
+
+## Related rules
+ST006 reports a segment whose ends coincide; ST011 compares segments by the s range they
+cover whichever way round they are written.
+
+## References
+- ASAM OpenDRIVE 1.7, chapter "Railroads", section "Stations" (segments); rule UID
+  `xodrlint:xodr:1.4.0:road.railroad.segment.s_ordered`
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from xodrlint.findings import Hit, Severity
+from xodrlint.model import RailNetwork
+from xodrlint.profile import S_TOLERANCE
+from xodrlint.rules import rule
+from xodrlint.rules._shared import metres, quoted
+from xodrlint.rules.stations._walk import segments_with_platform
+
+
+@rule(
+    code="ST005",
+    name="segment-s-reversed",
+    uid="xodrlint:xodr:1.4.0:road.railroad.segment.s_ordered",
+    severity=Severity.ERROR,
+)
+def segment_s_reversed(network: RailNetwork) -> Iterator[Hit]:
+    for segment, platform in segments_with_platform(network):
+        start, end = segment.s_start, segment.s_end
+        if start is not None and end is not None and start > end + S_TOLERANCE:
+            yield Hit(
+                segment.element,
+                f"segment of platform {quoted(platform.id)} starts at sStart={metres(start)}, "
+                f"after its end sEnd={metres(end)}",
+            )

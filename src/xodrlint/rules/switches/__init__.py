@@ -1,0 +1,1 @@
+"""The switches rule pack (SW): `road/railroad/switch` with its `mainTrack` and `sideTrack`."""

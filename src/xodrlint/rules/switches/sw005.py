@@ -1,0 +1,68 @@
+"""SW005 track-s-out-of-range: a switch's main or side track position lies off its road.
+
+## What it does
+Reports a `mainTrack` or `sideTrack` whose `@s` lies outside `[0, length]` of the road it
+names (with a tolerance of 1e-6 m).
+
+## Why is this bad?
+This is an inference: the standard defines `s` of a track as the position of the switch
+on that road, and an s-coordinate only has a meaning between 0 and the road's `@length`.
+A position past the end cannot be placed, so the switch floats in space.
+
+## Example
+```xml
+<switch name="W1" id="101" position="dynamic">
+  <!-- road 1 is 100 m long, road 2 is 20 m long -->
+  <mainTrack id="1" s="30" dir="+"/>
+  <sideTrack id="2" s="60" dir="-"/> <!-- expect: SW005 -->
+</switch>
+```
+
+Use instead:
+```xml
+<switch name="W1" id="101" position="dynamic">
+  <!-- road 1 is 100 m long, road 2 is 20 m long -->
+  <mainTrack id="1" s="0" dir="+"/>
+  <sideTrack id="2" s="20" dir="-"/>
+</switch>
+```
+
+## Related rules
+SW004 reports a track that names an unknown road; SW005 cannot judge that one. SW006
+stays silent on a side track SW005 reports.
+
+## References
+- ASAM OpenDRIVE 1.7, chapter "Railroads", section "Switches"; rule UID
+  `xodrlint:xodr:1.4.0:road.railroad.switch.s_in_road_range`
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from xodrlint.findings import Hit, Severity
+from xodrlint.model import RailNetwork
+from xodrlint.rules import rule
+from xodrlint.rules._shared import metres, quoted, within
+from xodrlint.rules.switches._tracks import named_road, track_refs
+
+
+@rule(
+    code="SW005",
+    name="track-s-out-of-range",
+    uid="xodrlint:xodr:1.4.0:road.railroad.switch.s_in_road_range",
+    severity=Severity.ERROR,
+    defers_to=("SW004",),
+)
+def track_s_out_of_range(network: RailNetwork) -> Iterator[Hit]:
+    for switch in network.switches:
+        for kind, track in track_refs(switch):
+            road = named_road(network, track)
+            if road is None or road.length is None or track.s is None:
+                continue
+            if not within(track.s, 0.0, road.length):
+                yield Hit(
+                    track.element,
+                    f"{kind} of switch {quoted(switch.id)} is at s={metres(track.s)}, outside "
+                    f"road '{road.id}' (0 to {metres(road.length)})",
+                )

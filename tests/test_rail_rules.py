@@ -1,0 +1,163 @@
+"""The railroad rule packs as a whole: options, one defect one finding, related locations."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import pytest
+from typer.testing import CliRunner
+
+from xodrlint.api import default_registry, lint_bytes
+from xodrlint.cli import app
+from xodrlint.engine import Linter, LintOptions, OptionError
+
+from .networks import rail_road
+
+
+def _file(*roads: str, tail: str = "") -> bytes:
+    body = "".join(roads)
+    return (
+        '<?xml version="1.0" encoding="UTF-8"?>\n<OpenDRIVE>\n'
+        '  <header revMajor="1" revMinor="7" name="t"/>\n' + body + tail + "</OpenDRIVE>\n"
+    ).encode()
+
+
+def _road(ident: str, **options: Any) -> str:
+    return rail_road(ident, length=100, y=int(ident) * 10, **options)
+
+
+def _switch(ident: str, main: str, side: str, partner: str | None = None, s: float = 0) -> str:
+    partner_xml = f'<partner id="{partner}"/>' if partner is not None else ""
+    return (
+        f'<switch name="W{ident}" id="{ident}" position="dynamic">'
+        f'<mainTrack id="{main}" s="30" dir="+"/><sideTrack id="{side}" s="{s}" dir="+"/>'
+        f"{partner_xml}</switch>"
+    )
+
+
+def _railroad(*switches: str) -> str:
+    return "\n    <railroad>" + "".join(switches) + "</railroad>"
+
+
+def _codes(data: bytes, **options: object) -> list[tuple[str, str]]:
+    report = lint_bytes(data, **options)  # type: ignore[arg-type]
+    assert not report.internal_errors
+    return sorted((f.code, f.xpath) for f in report.findings if not f.code.startswith("XS"))
+
+
+def test_rail_min_width_option_changes_rl003() -> None:
+    narrow = _file(_road("1", width=1.2))
+    assert [code for code, _ in _codes(narrow)] == ["RL003"]
+    assert _codes(narrow, rule_options={"rail-min-width": 1.0}) == []
+    assert [code for code, _ in _codes(narrow, rule_options={"rail-min-width": 1.2})] == []
+
+
+def test_refline_tolerance_option_changes_rl002() -> None:
+    off_centre = _file(_road("1", width=1.5, offset=0.75 + 0.2))
+    assert [code for code, _ in _codes(off_centre)] == ["RL002"]
+    assert _codes(off_centre, rule_options={"refline-tolerance": 0.2}) == []
+    assert [c for c, _ in _codes(off_centre, rule_options={"refline-tolerance": 0.19})] == ["RL002"]
+
+
+@pytest.mark.parametrize(
+    ("values", "message"),
+    [
+        ({"rail-width": 1.0}, "unknown rule option 'rail-width'"),
+        ({"rail-min-width": -1.0}, "must be a finite number >= 0"),
+        ({"refline-tolerance": float("nan")}, "must be a finite number"),
+        ({"refline-tolerance": float("inf")}, "must be a finite number"),
+    ],
+)
+def test_bad_rule_options_are_refused(values: dict[str, float], message: str) -> None:
+    with pytest.raises(OptionError, match=message):
+        Linter(default_registry(), LintOptions(rule_options=values))
+
+
+def test_cli_rule_options(tmp_path: pytest.TempPathFactory) -> None:
+    path = tmp_path / "narrow.xodr"  # type: ignore[operator]
+    path.write_bytes(_file(_road("1", width=1.2)))
+    runner = CliRunner()
+    assert runner.invoke(app, ["check", "-q", str(path)]).exit_code == 1
+    assert runner.invoke(app, ["check", "-q", "--rail-min-width", "1.0", str(path)]).exit_code == 0
+    refused = runner.invoke(app, ["check", "--rail-min-width", "-2", str(path)])
+    assert refused.exit_code == 2
+    assert "rail-min-width" in refused.output and "Traceback" not in refused.output
+
+
+def test_rules_json_lists_options_and_deferrals() -> None:
+    result = CliRunner().invoke(app, ["rules", "-f", "json"])
+    entries = {entry["code"]: entry for entry in json.loads(result.stdout)}
+    assert [o["name"] for o in entries["RL003"]["options"]] == ["rail-min-width"]
+    assert entries["RL003"]["options"][0]["default"] == 1.435
+    assert entries["PT002"]["defers_to"] == ["PT001", "PT005", "SW002", "PT004"]
+    assert len([code for code in entries if code[:2] in ("SW", "PT", "ST", "RL")]) == 32
+
+
+def test_explain_shows_options() -> None:
+    result = CliRunner().invoke(app, ["explain", "RL003"])
+    assert result.exit_code == 0
+    assert "## Options" in result.stdout and "rail-min-width" in result.stdout
+
+
+PARTNER_XPATH = "/OpenDRIVE/road[@id='1']/railroad/switch[@id='11']/partner"
+
+
+def test_partner_chain_reports_the_first_rule_that_applies() -> None:
+    # switch 11 names partner '99', which does not exist; it is also a single switch
+    data = _file(_road("1", railroad=_railroad(_switch("11", "1", "2", partner="99"))), _road("2"))
+    assert _codes(data) == [("PT001", PARTNER_XPATH)]
+    # without PT001 the next rule of the chain that applies reports it
+    assert _codes(data, ignore=["PT001"]) == [("SW002", PARTNER_XPATH)]
+    # a rule selected alone reports everything it sees
+    assert _codes(data, select=["SW002"]) == [("SW002", PARTNER_XPATH)]
+
+
+def test_self_partner_is_pt005_only() -> None:
+    data = _file(_road("1", railroad=_railroad(_switch("11", "1", "2", partner="11"))), _road("2"))
+    assert _codes(data) == [("PT005", PARTNER_XPATH)]
+
+
+def test_undefined_main_track_is_sw004_not_sw003() -> None:
+    data = _file(_road("1", railroad=_railroad(_switch("11", "7", "2", s=0))), _road("2"))
+    main = "/OpenDRIVE/road[@id='1']/railroad/switch[@id='11']/mainTrack"
+    assert _codes(data) == [("SW004", main)]
+    assert _codes(data, select=["SW003"]) == [("SW003", main)]
+
+
+def test_out_of_range_side_track_is_sw005_not_sw006() -> None:
+    data = _file(_road("1", railroad=_railroad(_switch("11", "1", "2", s=120))), _road("2"))
+    side = "/OpenDRIVE/road[@id='1']/railroad/switch[@id='11']/sideTrack"
+    assert _codes(data) == [("SW005", side)]
+    assert _codes(data, select=["SW006"]) == [("SW006", side)]
+
+
+def test_overused_side_track_silences_pt007_on_the_same_element() -> None:
+    switches = _railroad(_switch("11", "1", "2"), _switch("12", "1", "2"), _switch("13", "1", "2"))
+    data = _file(_road("1", railroad=switches), _road("2"))
+    side = "/OpenDRIVE/road[@id='1']/railroad/switch[@id='{}']/sideTrack"
+    assert _codes(data) == [("PT007", side.format("12")), ("SW010", side.format("13"))]
+
+
+def test_duplicates_name_the_first_with_its_line() -> None:
+    data = _file(
+        _road("1", railroad=_railroad(_switch("11", "1", "2"))),
+        _road("2", railroad=_railroad(_switch("11", "2", "1", s=0))),
+    )
+    report = lint_bytes(data, select=["SW007"])
+    (finding,) = report.findings
+    first = (
+        data.decode()
+        .splitlines()
+        .index(next(line for line in data.decode().splitlines() if 'id="11"' in line))
+    )
+    assert (
+        finding.message
+        == f"switch id '11' is already used by switch 'W11' in road '1' at line {first + 1}"
+    )
+    assert [(r.line, r.xpath) for r in finding.related] == [
+        (first + 1, "/OpenDRIVE/road[@id='1']/railroad/switch[@id='11']")
+    ]
+    assert finding.as_dict()["related"] == [
+        {"line": first + 1, "xpath": "/OpenDRIVE/road[@id='1']/railroad/switch[@id='11']"}
+    ]
