@@ -428,3 +428,17 @@ def test_readme_shows_the_real_output_of_the_broken_example(
     shown = readme.split("Output for `examples/broken.xodr`", 1)[1].split("```text\n", 1)[1]
     shown = shown.split("```", 1)[0]
     assert cli("check", "examples/broken.xodr", code=1).stdout == shown
+
+
+@pytest.mark.parametrize("meta", default_registry().metas, ids=lambda m: m.code)
+def test_explain_works_for_every_rule(meta: Any) -> None:
+    out = cli("explain", meta.code, code=0).stdout
+    assert out.startswith(f"# {meta.code} {meta.name}\n")
+    assert "## What it does" in out and meta.uid in out
+
+
+def test_rules_lists_all_38_rules() -> None:
+    lines = cli("rules", code=0).stdout.splitlines()[1:]
+    codes = [line.split()[0] for line in lines]
+    assert len(codes) == 38
+    assert sorted({code[:2] for code in codes}) == ["PT", "RL", "ST", "SW", "XS"]

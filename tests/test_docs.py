@@ -82,3 +82,19 @@ def test_docs_rules_are_generated() -> None:
         )
     extra = {p.name for p in (REPO / "docs" / "rules").glob("*.md")} - {p.name for p in pages}
     assert not extra, f"pages without a rule: {extra}"
+
+
+# Column "Basis" = I in the catalogue: rules that rest on our reading of the standard.
+INFERRED = {
+    "XS005", "SW005", "SW006", "SW009", "PT002", "PT003", "PT005", "PT006",
+    "ST004", "ST005", "ST006", "ST011",
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("meta", METAS, ids=lambda m: m.code)
+def test_inferred_rules_say_so(meta: RuleMeta) -> None:
+    why = meta.doc.split("## Why is this bad?", 1)[1].split("\n## ", 1)[0]
+    if meta.code in INFERRED:
+        assert "inference" in why, (
+            f"{meta.code} rests on an inference; 'Why is this bad?' must say so"
+        )
