@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import hashlib
+import os
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from enum import StrEnum
 from typing import TYPE_CHECKING
@@ -90,6 +92,49 @@ class Finding:
         }
 
 
+def relative_path(path: str, root: str) -> str:
+    """``path`` as a POSIX path relative to ``root`` when it lies below it, else as given.
+
+    Reports and fingerprints name files this way, so they do not change with the folder a
+    checkout lives in.
+    """
+    if path == "-" or not root:
+        return path.replace(os.sep, "/")
+    absolute = os.path.abspath(path)
+    base = os.path.abspath(root)
+    if absolute == base or absolute.startswith(base.rstrip(os.sep) + os.sep):
+        return os.path.relpath(absolute, base).replace(os.sep, "/")
+    return path.replace(os.sep, "/")
+
+
+def fingerprints(findings: Iterable[Finding], root: str) -> list[str]:
+    """A stable fingerprint per finding: rule code, relative path and XPath, never lines.
+
+    Findings that share all three (two overlaps reported on one segment) are told apart by
+    their rank among them, so every fingerprint of a run is unique. SARIF
+    ``partialFingerprints``, GitLab's ``fingerprint`` and the baseline all use these.
+    """
+    seen: dict[str, int] = {}
+    result = []
+    for finding in findings:
+        key = "\x1f".join((finding.code, relative_path(finding.path, root), finding.xpath))
+        rank = seen.get(key, 0)
+        seen[key] = rank + 1
+        digest = hashlib.sha256(f"{key}\x1f{rank}".encode()).hexdigest()
+        result.append(digest[:32])
+    return result
+
+
+@dataclass(frozen=True, slots=True)
+class Suppressed:
+    """A finding that a suppression or the baseline withheld, with why."""
+
+    finding: Finding
+    kind: str
+    """``inSource`` (an XML comment in the file) or ``external`` (config or baseline)."""
+    justification: str = ""
+
+
 @dataclass(frozen=True, slots=True)
 class RuleOption:
     """A number a user may set for a rule (``--rail-min-width``, ``rail-min-width = ...``).
@@ -160,6 +205,8 @@ class FileReport:
     internal_errors: tuple[str, ...] = ()
     source_lines: Mapping[int, str] = field(default_factory=dict)
     """The text of each line a finding is on, when the run asked to show source."""
+    suppressed: tuple[Suppressed, ...] = ()
+    """Findings withheld by suppressions, kept only when the run asked for them."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -170,6 +217,9 @@ class RunResult:
     rules: tuple[RuleMeta, ...]
     tool_version: str
     notes: tuple[str, ...] = ()
+    root: str = "."
+    """The folder paths are reported relative to (SARIF's ``%SRCROOT%``): the working
+    folder of the run."""
 
     @property
     def findings(self) -> tuple[Finding, ...]:

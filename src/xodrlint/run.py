@@ -94,7 +94,9 @@ def run_check(request: CheckRequest) -> int:
             _error(report.error)
         for crash in report.internal_errors:
             _error(f"internal error: {crash}")
-    result = RunResult(tuple(reports), registry.metas, __version__, notes=_notes(reports))
+    result = RunResult(
+        tuple(reports), registry.metas, __version__, notes=_notes(reports), root=os.getcwd()
+    )
     try:
         _write(request.output, lambda stream: formatter.render(result, stream))
     except OSError as error:
