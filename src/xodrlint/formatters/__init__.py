@@ -19,6 +19,11 @@ ENTRY_POINT_GROUP: Final = "xodrlint.formatters"
 BUILTIN: Final = {
     "text": "xodrlint.formatters.text:TextFormatter",
     "json": "xodrlint.formatters.json:JsonFormatter",
+    "concise": "xodrlint.formatters.concise:ConciseFormatter",
+    "github": "xodrlint.formatters.github:GithubFormatter",
+    "gitlab": "xodrlint.formatters.gitlab:GitlabFormatter",
+    "junit": "xodrlint.formatters.junit:JunitFormatter",
+    "sarif": "xodrlint.formatters.sarif:SarifFormatter",
 }
 
 

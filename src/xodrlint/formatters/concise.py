@@ -1,0 +1,30 @@
+"""One line per finding, ``path:line: CODE [severity] message``, for editors and grep.
+
+Nothing else: no summary, no notes. Files that could not be read are not findings (the
+CLI reports them on stderr). Paths are as given on the command line, like the text
+report's; a line break inside a message becomes a space, so each finding stays one line.
+"""
+
+from __future__ import annotations
+
+from typing import TextIO
+
+from xodrlint.findings import Finding, RunResult
+
+from ._common import single_line
+
+
+class ConciseFormatter:
+    def __init__(self, *, show_source: bool = False, quiet: bool = False) -> None:
+        del show_source, quiet  # always the same lines
+
+    def render(self, result: RunResult, stream: TextIO) -> None:
+        for finding in result.findings:
+            stream.write(line(finding) + "\n")
+
+
+def line(finding: Finding) -> str:
+    return (
+        f"{single_line(finding.path)}:{finding.line}: {finding.code} "
+        f"[{finding.severity}] {single_line(finding.message)}"
+    )

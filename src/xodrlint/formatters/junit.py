@@ -1,0 +1,98 @@
+"""JUnit XML, as GitLab's test reports and Jenkins' junit step read it.
+
+One ``testsuite`` per input file (named by its path relative to the run's root), one
+failing ``testcase`` per finding (``CODE line N``, with a ``failure`` whose type is the
+code and whose text is ``path:line: CODE [severity] message`` and the XPath), and one
+passing ``testcase`` named ``xodrlint`` for a file without findings. A file that could
+not be read, or on which a rule crashed, has a ``testcase`` with an ``error`` instead.
+Times are always ``0``: the output depends on the input only.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Final, TextIO
+
+from lxml import etree
+
+from xodrlint.findings import FileReport, Finding, RunResult
+
+from ._common import report_path
+
+DECLARATION: Final = '<?xml version="1.0" encoding="UTF-8"?>\n'
+CLEAN_CASE: Final = "xodrlint"
+#: Characters XML 1.0 cannot hold at all, not even escaped.
+_NOT_XML: Final = re.compile("[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
+
+
+def xml_text(text: str) -> str:
+    """``text`` with the characters XML cannot carry replaced by U+FFFD."""
+    return _NOT_XML.sub("\ufffd", text)
+
+
+class JunitFormatter:
+    def __init__(self, *, show_source: bool = False, quiet: bool = False) -> None:
+        del show_source, quiet  # the report is always complete
+
+    def render(self, result: RunResult, stream: TextIO) -> None:
+        stream.write(DECLARATION)
+        stream.write(etree.tostring(as_junit(result), encoding="unicode", pretty_print=True))
+
+
+def as_junit(result: RunResult) -> etree._Element:
+    root = etree.Element("testsuites", name="xodrlint")
+    totals = [0, 0, 0]
+    for report in result.reports:
+        suite = _suite(report, report_path(report.path, result))
+        root.append(suite)
+        for i, key in enumerate(("tests", "failures", "errors")):
+            totals[i] += int(suite.get(key, "0"))
+    for key, value in zip(("tests", "failures", "errors"), totals, strict=True):
+        root.set(key, str(value))
+    root.set("time", "0")
+    return root
+
+
+def _suite(report: FileReport, path: str) -> etree._Element:
+    suite = etree.Element("testsuite", name=xml_text(path))
+    cases: list[etree._Element] = []
+    if report.error:
+        cases.append(_error_case(path, CLEAN_CASE, "unreadable", report.error))
+    cases.extend(
+        _error_case(path, "internal error", "internal-error", crash)
+        for crash in report.internal_errors
+    )
+    cases.extend(_failure_case(finding, path) for finding in report.findings)
+    if not cases:
+        cases.append(_case(CLEAN_CASE, path))
+    errors = (1 if report.error else 0) + len(report.internal_errors)
+    suite.set("tests", str(len(cases)))
+    suite.set("failures", str(len(report.findings)))
+    suite.set("errors", str(errors))
+    suite.set("skipped", "0")
+    suite.set("time", "0")
+    suite.extend(cases)
+    return suite
+
+
+def _case(name: str, path: str) -> etree._Element:
+    return etree.Element("testcase", name=xml_text(name), classname=xml_text(path), time="0")
+
+
+def _failure_case(finding: Finding, path: str) -> etree._Element:
+    case = _case(f"{finding.code} line {finding.line}", path)
+    failure = etree.SubElement(
+        case, "failure", message=xml_text(finding.message), type=finding.code
+    )
+    failure.text = xml_text(
+        f"{path}:{finding.line}: {finding.code} [{finding.severity}] {finding.message}\n"
+        f"{finding.xpath}"
+    )
+    return case
+
+
+def _error_case(path: str, name: str, kind: str, text: str) -> etree._Element:
+    case = _case(name, path)
+    error = etree.SubElement(case, "error", message=xml_text(text), type=kind)
+    error.text = xml_text(text)
+    return case

@@ -1,0 +1,265 @@
+"""SARIF 2.1.0, the way GitHub code scanning reads it (one run, every rule described).
+
+- ``tool.driver.rules`` lists every rule of the run's registry; each result points at
+  its rule by ``ruleId`` and ``ruleIndex``. A rule's ``defaultConfiguration.level`` is its
+  default severity, a result's ``level`` the severity it was reported with (which a run
+  may have overridden): error -> ``error``, warning -> ``warning``, info -> ``note``.
+- Paths are URIs relative to ``%SRCROOT%`` (the run's root, given in
+  ``originalUriBaseIds``), percent-encoded; a file outside the root gets an absolute
+  ``file:`` URI instead, since a relative one would climb out of the checkout.
+- ``partialFingerprints["xodrlint/v1"]`` is :func:`xodrlint.findings.fingerprints`: rule,
+  relative path and XPath, never a line number, so an alert survives edits above it.
+- The XPath of a finding is its logical location (``kind: element``); a finding's
+  related elements are ``relatedLocations``.
+- Suppressed findings, when the run kept them, are results with ``suppressions``.
+- Files that could not be read, rule crashes and files that do not parse (XS001, which
+  is a result too) are ``toolExecutionNotifications`` of the one invocation; a run with
+  an unreadable file or a crash has ``executionSuccessful: false``. The run's notes (the
+  built-in schema only checked railroad elements) are ``toolConfigurationNotifications``.
+
+The output holds no timestamps: the same input gives the same bytes.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, Final, TextIO
+from urllib.parse import quote
+
+from xodrlint.findings import Finding, RuleMeta, RunResult, Severity, Suppressed, relative_path
+
+from ._common import MALFORMED, rules_by_code, run_fingerprints
+
+SCHEMA_URI: Final = "https://json.schemastore.org/sarif-2.1.0.json"
+SARIF_VERSION: Final = "2.1.0"
+INFORMATION_URI: Final = "https://github.com/xodrlint/xodrlint"
+HELP_URI: Final = INFORMATION_URI + "/blob/main/docs/rules/{code}.md"
+#: Rules of these packs have a doc page in the repository (a plugin's rules do not).
+BUILTIN_PACK_PREFIX: Final = "xodrlint.rules"
+FINGERPRINT_KEY: Final = "xodrlint/v1"
+SRCROOT: Final = "%SRCROOT%"
+
+LEVEL: Final = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
+#: GitHub's ``problem.severity`` (the severity code scanning shows for a non-security rule).
+PROBLEM_SEVERITY: Final = {
+    Severity.ERROR: "error",
+    Severity.WARNING: "warning",
+    Severity.INFO: "recommendation",
+}
+
+_SEMVER: Final = re.compile(
+    r"(0|[1-9]\d*)\.(0|[1-9]\d*)\.(0|[1-9]\d*)"
+    r"(-[0-9A-Za-z-]+(\.[0-9A-Za-z-]+)*)?(\+[0-9A-Za-z-]+(\.[0-9A-Za-z-]+)*)?"
+)
+_SECTION: Final = re.compile(r"^## +(?P<title>.+?)\s*$", re.MULTILINE)
+_LINK: Final = re.compile(r"\[([^\]]+)\]\(([^)\s]+)\)")
+_LIST_ITEM: Final = re.compile(r"^\s*([-*+]|\d+[.)])\s")
+
+JsonObject = dict[str, Any]
+
+
+class SarifFormatter:
+    def __init__(self, *, show_source: bool = False, quiet: bool = False) -> None:
+        del show_source, quiet  # the log is always complete
+
+    def render(self, result: RunResult, stream: TextIO) -> None:
+        json.dump(as_sarif(result), stream, indent=2, ensure_ascii=False)
+        stream.write("\n")
+
+
+def as_sarif(result: RunResult) -> JsonObject:
+    """The SARIF log of ``result`` as a JSON-ready dict."""
+    rules = [rule_descriptor(meta) for meta in result.rules]
+    index = {meta.code: i for i, meta in enumerate(result.rules)}
+
+    def rule_index(code: str) -> int:
+        if code not in index:  # a finding of a rule the table lacks: describe it minimally
+            index[code] = len(rules)
+            rules.append({"id": code, "shortDescription": {"text": code}})
+        return index[code]
+
+    suppressed = [item for report in result.reports for item in report.suppressed]
+    prints = run_fingerprints(result, (item.finding for item in suppressed))
+    entries: list[tuple[Finding, Suppressed | None]] = [(f, None) for f in result.findings]
+    entries += [(item.finding, item) for item in suppressed]
+    results = [
+        _result(finding, rule_index(finding.code), fingerprint, item, result.root)
+        for (finding, item), fingerprint in zip(entries, prints, strict=True)
+    ]
+    driver: JsonObject = {"name": "xodrlint", "version": result.tool_version}
+    if _SEMVER.fullmatch(result.tool_version):
+        driver["semanticVersion"] = result.tool_version
+    driver["informationUri"] = INFORMATION_URI
+    driver["rules"] = rules
+    run: JsonObject = {
+        "tool": {"driver": driver},
+        "invocations": [_invocation(result, rule_index)],
+        "originalUriBaseIds": {SRCROOT: {"uri": root_uri(result.root)}},
+        "results": results,
+        "columnKind": "unicodeCodePoints",
+    }
+    return {"$schema": SCHEMA_URI, "version": SARIF_VERSION, "runs": [run]}
+
+
+def rule_descriptor(meta: RuleMeta) -> JsonObject:
+    page = doc_page(meta)
+    what = doc_section(meta.doc, "What it does") or meta.summary
+    descriptor: JsonObject = {
+        "id": meta.code,
+        "name": meta.name,
+        "shortDescription": {"text": plain_text(meta.summary), "markdown": meta.summary},
+        "fullDescription": {"text": plain_text(what), "markdown": what},
+        "help": {"text": page, "markdown": page},
+    }
+    if meta.pack == BUILTIN_PACK_PREFIX or meta.pack.startswith(BUILTIN_PACK_PREFIX + "."):
+        descriptor["helpUri"] = HELP_URI.format(code=meta.code)
+    descriptor["defaultConfiguration"] = {"level": LEVEL[meta.severity]}
+    family = meta.pack.rpartition(".")[2]
+    descriptor["properties"] = {
+        "uid": meta.uid,
+        "aliases": list(meta.aliases),
+        "tags": ["opendrive", family] if family else ["opendrive"],
+        "precision": "very-high",
+        "problem.severity": PROBLEM_SEVERITY[meta.severity],
+    }
+    return descriptor
+
+
+def doc_page(meta: RuleMeta) -> str:
+    """The rule's doc page: its docstring without the ``CODE name: summary`` line."""
+    body = meta.doc.partition("\n")[2].strip()
+    return body or meta.summary
+
+
+def doc_section(doc: str, title: str) -> str:
+    """The body of the ``## title`` section of a Markdown doc, ``""`` if it has none."""
+    headings = list(_SECTION.finditer(doc))
+    for i, heading in enumerate(headings):
+        if heading["title"].lower() == title.lower():
+            end = headings[i + 1].start() if i + 1 < len(headings) else len(doc)
+            return doc[heading.end() : end].strip()
+    return ""
+
+
+def plain_text(markdown: str) -> str:
+    """Short Markdown as plain text: no backticks, links as ``text (url)``, lines unwrapped.
+
+    Paragraphs stay apart (a blank line between them), and so do list items.
+    """
+    text = _LINK.sub(r"\1 (\2)", markdown).replace("`", "")
+    paragraphs = []
+    for paragraph in re.split(r"\n\s*\n", text.strip()):
+        lines: list[str] = []
+        for line in paragraph.splitlines():
+            if lines and not _LIST_ITEM.match(line):
+                lines[-1] += " " + line.strip()
+            else:
+                lines.append(line.strip())
+        paragraphs.append("\n".join(lines))
+    return "\n\n".join(paragraphs)
+
+
+def root_uri(root: str) -> str:
+    """The ``file:`` URI of the run's root folder, ending with ``/`` as SARIF requires."""
+    uri = _absolute(root).as_uri()
+    return uri if uri.endswith("/") else uri + "/"
+
+
+def _absolute(path: str) -> Path:
+    """``path`` made absolute and normalised, without resolving links (as reports do)."""
+    return Path(os.path.normpath(Path(path).absolute()))
+
+
+def artifact_location(path: str, root: str) -> JsonObject:
+    """``path`` as a URI relative to ``%SRCROOT%``, or absolute when outside the root."""
+    relative = relative_path(path, root)
+    if path != "-" and (
+        Path(relative).is_absolute() or relative == ".." or relative.startswith("../")
+    ):
+        return {"uri": _absolute(path).as_uri()}
+    return {"uri": quote(relative, safe="/"), "uriBaseId": SRCROOT}
+
+
+def _location(path: str, line: int, column: int | None, xpath: str, root: str) -> JsonObject:
+    region: JsonObject = {"startLine": max(line, 1)}
+    if column is not None:
+        region["startColumn"] = max(column, 1)
+    return {
+        "physicalLocation": {"artifactLocation": artifact_location(path, root), "region": region},
+        "logicalLocations": [{"fullyQualifiedName": xpath, "kind": "element"}],
+    }
+
+
+def _result(
+    finding: Finding, rule_index: int, fingerprint: str, item: Suppressed | None, root: str
+) -> JsonObject:
+    entry: JsonObject = {
+        "ruleId": finding.code,
+        "ruleIndex": rule_index,
+        "level": LEVEL[finding.severity],
+        "message": {"text": finding.message},
+        "locations": [_location(finding.path, finding.line, finding.column, finding.xpath, root)],
+    }
+    if finding.related:
+        entry["relatedLocations"] = [
+            {"id": number, **_location(finding.path, other.line, None, other.xpath, root)}
+            for number, other in enumerate(finding.related, start=1)
+        ]
+    entry["partialFingerprints"] = {FINGERPRINT_KEY: fingerprint}
+    if item is not None:
+        suppression: JsonObject = {"kind": item.kind}
+        if item.justification:
+            suppression["justification"] = item.justification
+        entry["suppressions"] = [suppression]
+    return entry
+
+
+def _invocation(result: RunResult, rule_index: Callable[[str], int]) -> JsonObject:
+    rules = rules_by_code(result)
+    notifications: list[JsonObject] = []
+    for report in result.reports:
+        file_location = {
+            "physicalLocation": {"artifactLocation": artifact_location(report.path, result.root)}
+        }
+        if report.error:
+            notifications.append(
+                {"level": "error", "message": {"text": report.error}, "locations": [file_location]}
+            )
+        notifications.extend(
+            {
+                "level": "error",
+                "message": {"text": f"internal error: {crash}"},
+                "locations": [file_location],
+            }
+            for crash in report.internal_errors
+        )
+        for finding in report.findings:
+            if finding.code != MALFORMED:
+                continue
+            meta = rules.get(MALFORMED)
+            text = f"{meta.summary}: {finding.message}" if meta else finding.message
+            notifications.append(
+                {
+                    "level": "error",
+                    "message": {"text": text},
+                    "locations": [
+                        _location(
+                            finding.path, finding.line, finding.column, finding.xpath, result.root
+                        )
+                    ],
+                    "associatedRule": {"id": MALFORMED, "index": rule_index(MALFORMED)},
+                }
+            )
+    invocation: JsonObject = {
+        "executionSuccessful": not any(r.error or r.internal_errors for r in result.reports),
+        "toolExecutionNotifications": notifications,
+    }
+    if result.notes:
+        invocation["toolConfigurationNotifications"] = [
+            {"level": "note", "message": {"text": note}} for note in result.notes
+        ]
+    return invocation
