@@ -98,3 +98,12 @@ def test_inferred_rules_say_so(meta: RuleMeta) -> None:
         assert "inference" in why, (
             f"{meta.code} rests on an inference; 'Why is this bad?' must say so"
         )
+
+
+def test_output_formats_page_is_generated() -> None:
+    from xodrlint.docgen import formats_page
+
+    page = REPO / "docs" / "output-formats.md"
+    assert page.read_text("utf-8") == formats_page(REPO), (
+        "docs/output-formats.md is stale: run python -m xodrlint.docgen"
+    )

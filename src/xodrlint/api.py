@@ -1,16 +1,18 @@
 """The Python API: the engine without the CLI, for pipelines and notebooks.
 
-``lint_file`` and ``lint_bytes`` lint one input; ``collect_inputs`` and ``lint_inputs``
-are what ``xodrlint check`` runs over its paths. A pipeline (Dask, Spark, a CI matrix)
-can call ``lint_file`` per file; reuse a :class:`~xodrlint.engine.Linter` to compile
-the schemas only once.
+``lint_file`` and ``lint_bytes`` lint one input; ``collect_inputs`` expands the paths
+``xodrlint check`` takes (files, folders, globs). A pipeline (Dask, Spark, a CI matrix)
+can call ``lint_file`` per file (the linter behind it is cached, so schemas compile once
+per process); :func:`xodrlint.batch.lint_tasks` spreads many files over processes.
 """
 
 from __future__ import annotations
 
+import errno
+import glob
 import os
 import stat
-from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -20,7 +22,7 @@ from xodrlint.engine import Linter, LintOptions
 from xodrlint.findings import FileReport, Severity
 from xodrlint.registry import Registry, load_registry
 
-__all__ = ["LintOptions", "Linter", "collect_inputs", "lint_bytes", "lint_file", "lint_inputs"]
+__all__ = ["LintOptions", "Linter", "collect_inputs", "lint_bytes", "lint_file"]
 
 STDIN: Final = "-"
 XODR_SUFFIX: Final = ".xodr"
@@ -94,22 +96,47 @@ class Input:
     is_stdin: bool = False
 
 
-def collect_inputs(paths: Iterable[str]) -> Iterator[Input]:
-    """Files as given, folders walked for ``*.xodr`` (sorted, symlinks not followed)."""
+def collect_inputs(
+    paths: Iterable[str], exclude: Callable[[Path], bool] | None = None
+) -> Iterator[Input]:
+    """Files as given, folders walked for ``*.xodr`` (sorted, symlinks not followed), and
+    glob patterns (``maps/**/*.xodr``) expanded when no such path exists. ``exclude``
+    drops files, found or given, that it matches."""
     for raw in paths:
         if raw == STDIN:
             yield Input(STDIN, is_stdin=True)
             continue
-        path = Path(raw)
-        try:
-            mode = path.stat().st_mode
-        except OSError as error:
-            yield Input(raw, error=f"{raw}: {_reason(error)}")
-            continue
-        if stat.S_ISDIR(mode):
-            yield from _walk(path)
+        for item in _expand(raw):
+            if item.path is None or exclude is None or not exclude(item.path):
+                yield item
+
+
+def _expand(raw: str) -> Iterator[Input]:
+    path = Path(raw)
+    try:
+        mode = path.stat().st_mode
+    except OSError as error:
+        if glob.has_magic(raw) and error.errno == errno.ENOENT:
+            yield from _glob(raw)
         else:
-            yield Input(raw, path=path)
+            yield Input(raw, error=f"{raw}: {_reason(error)}")
+        return
+    if stat.S_ISDIR(mode):
+        yield from _walk(path)
+    else:
+        yield Input(raw, path=path)
+
+
+def _glob(pattern: str) -> Iterator[Input]:
+    # glob.glob, not Path.glob: the pattern may be absolute, and ** must cross folders
+    matched = sorted(glob.glob(pattern, recursive=True))  # noqa: PTH207
+    if not matched:
+        yield Input(pattern, error=f"{pattern}: no file matches")
+    for name in matched:
+        if Path(name).is_dir():
+            yield from _walk(Path(name))
+        else:
+            yield Input(name, path=Path(name))
 
 
 def _walk(folder: Path) -> Iterator[Input]:
@@ -124,19 +151,6 @@ def _walk(folder: Path) -> Iterator[Input]:
 def _reason(error: OSError) -> str:
     reason = error.strerror or type(error).__name__
     return reason[:1].lower() + reason[1:]
-
-
-def lint_inputs(
-    linter: Linter, inputs: Iterable[Input], stdin: bytes | None = None, stdin_name: str = STDIN
-) -> Iterator[FileReport]:
-    for item in inputs:
-        if item.error is not None:
-            yield FileReport(item.display, error=item.error)
-        elif item.is_stdin:
-            yield linter.lint_bytes(stdin or b"", stdin_name)
-        else:
-            assert item.path is not None
-            yield linter.lint_path(item.path, item.display)
 
 
 def exit_code(reports: Sequence[FileReport], fail_on: Severity, exit_zero: bool) -> int:

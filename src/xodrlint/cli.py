@@ -61,49 +61,159 @@ def _split(values: list[str] | None) -> tuple[str, ...]:
     return tuple(v.strip() for raw in values or [] for v in raw.split(",") if v.strip())
 
 
+_CONFIG = "Configuration"
+_SELECTION = "Rule selection"
+_OUTPUT = "Output"
+_RUN = "Run"
+_RULE_OPTIONS = "Rule options"
+
+
 @app.command()
 def check(
     paths: Annotated[
         list[str],
-        typer.Argument(help="Files, folders (searched for *.xodr) or '-' for standard input."),
+        typer.Argument(
+            help="Files, folders (searched for *.xodr), glob patterns, or '-' for standard input."
+        ),
     ],
     output_format: Annotated[
-        str, typer.Option("--output-format", "-f", help="text or json (or a plugin's format).")
-    ] = "text",
+        str | None,
+        typer.Option(
+            "--output-format",
+            "-f",
+            help="text, concise, json, sarif, github, gitlab or junit (or a plugin's format).",
+            rich_help_panel=_OUTPUT,
+        ),
+    ] = None,
     output: Annotated[
-        str | None, typer.Option("--output", "-o", help="Write the report to FILE ('-': stdout).")
+        str | None,
+        typer.Option(
+            "--output",
+            "-o",
+            help="Write the report to FILE ('-': stdout).",
+            rich_help_panel=_OUTPUT,
+        ),
     ] = None,
     select: Annotated[
         list[str] | None,
-        typer.Option(help="Rule codes, prefixes, names or UIDs to run (comma-separated)."),
+        typer.Option(
+            help="Rule codes, prefixes, names or UIDs to run (comma-separated).",
+            rich_help_panel=_SELECTION,
+        ),
+    ] = None,
+    extend_select: Annotated[
+        list[str] | None,
+        typer.Option(help="Rules to run in addition to --select.", rich_help_panel=_SELECTION),
     ] = None,
     ignore: Annotated[
-        list[str] | None, typer.Option(help="Rule codes, prefixes, names or UIDs to skip.")
+        list[str] | None,
+        typer.Option(
+            help="Rule codes, prefixes, names or UIDs to skip.", rich_help_panel=_SELECTION
+        ),
     ] = None,
     fail_on: Annotated[
-        FailOn, typer.Option(help="Lowest severity that makes the exit code 1.")
-    ] = FailOn.warning,
+        FailOn | None,
+        typer.Option(
+            help="Lowest severity that makes the exit code 1 (default warning).",
+            rich_help_panel=_OUTPUT,
+        ),
+    ] = None,
     exit_zero: Annotated[
-        bool, typer.Option("--exit-zero", help="Exit 0 even when there are findings.")
+        bool,
+        typer.Option(
+            "--exit-zero", help="Exit 0 even when there are findings.", rich_help_panel=_OUTPUT
+        ),
     ] = False,
     schema: Annotated[
         Path | None,
-        typer.Option(help="An XSD file, or a folder with one schema set or one per version."),
+        typer.Option(
+            help="An XSD file, or a folder with one schema set or one per version.",
+            rich_help_panel=_CONFIG,
+        ),
     ] = None,
     quiet: Annotated[
-        bool, typer.Option("--quiet", "-q", help="Print findings only, no summary.")
+        bool,
+        typer.Option(
+            "--quiet", "-q", help="Print findings only, no summary.", rich_help_panel=_OUTPUT
+        ),
     ] = False,
     show_source: Annotated[
-        bool, typer.Option("--show-source", help="Show the source line of each finding.")
+        bool,
+        typer.Option(
+            "--show-source", help="Show the source line of each finding.", rich_help_panel=_OUTPUT
+        ),
+    ] = False,
+    statistics: Annotated[
+        bool,
+        typer.Option(
+            "--statistics",
+            help="Print counts per rule instead of findings.",
+            rich_help_panel=_OUTPUT,
+        ),
     ] = False,
     stdin_filename: Annotated[
-        str | None, typer.Option(help="The path to report for input read from '-'.")
+        str | None,
+        typer.Option(help="The path to report for input read from '-'.", rich_help_panel=_RUN),
     ] = None,
+    config: Annotated[
+        Path | None,
+        typer.Option(
+            help="Use this config file (pyproject.toml, xodrlint.toml) instead of searching.",
+            rich_help_panel=_CONFIG,
+        ),
+    ] = None,
+    isolated: Annotated[
+        bool,
+        typer.Option("--isolated", help="Ignore all config files.", rich_help_panel=_CONFIG),
+    ] = False,
+    exclude: Annotated[
+        list[str] | None,
+        typer.Option(help="Glob patterns of files to skip.", rich_help_panel=_CONFIG),
+    ] = None,
+    jobs: Annotated[
+        int | None,
+        typer.Option(
+            "--jobs",
+            "-j",
+            min=1,
+            help="Worker processes (default: one per core).",
+            rich_help_panel=_RUN,
+        ),
+    ] = None,
+    baseline: Annotated[
+        Path | None,
+        typer.Option(
+            help="Report only findings not recorded in this baseline file.", rich_help_panel=_RUN
+        ),
+    ] = None,
+    write_baseline: Annotated[
+        Path | None,
+        typer.Option(
+            help="Record the current findings in this baseline file and exit 0.",
+            rich_help_panel=_RUN,
+        ),
+    ] = None,
+    warn_unused_suppressions: Annotated[
+        bool | None,
+        typer.Option(
+            "--warn-unused-suppressions",
+            help="Report suppression comments that withhold nothing (XL001).",
+            rich_help_panel=_OUTPUT,
+        ),
+    ] = None,
+    show_suppressed: Annotated[
+        bool,
+        typer.Option(
+            "--show-suppressed",
+            help="Keep suppressed findings in SARIF output, marked as suppressed.",
+            rich_help_panel=_OUTPUT,
+        ),
+    ] = False,
     rail_min_width: Annotated[
         float | None,
         typer.Option(
             help="Narrowest allowed rail/tram lane in metres (RL003; default 1.435).",
-            rich_help_panel="Rule options",
+            rich_help_panel=_RULE_OPTIONS,
         ),
     ] = None,
     refline_tolerance: Annotated[
@@ -111,21 +221,22 @@ def check(
         typer.Option(
             help="Largest allowed distance of a rail lane's centre from the reference line "
             "in metres (RL002; default 0.05).",
-            rich_help_panel="Rule options",
+            rich_help_panel=_RULE_OPTIONS,
         ),
     ] = None,
 ) -> None:
     """Lint OpenDRIVE files and report findings."""
-    from xodrlint.run import CheckRequest, run_check
+    from xodrlint.check import CheckRequest, run_check
 
     code = run_check(
         CheckRequest(
             paths=tuple(paths),
             output_format=output_format,
             output=output,
-            select=_split(select) or ("ALL",),
-            ignore=_split(ignore),
-            fail_on=str(fail_on),
+            select=_split(select) or None,
+            extend_select=_split(extend_select) or None,
+            ignore=_split(ignore) or None,
+            fail_on=str(fail_on) if fail_on is not None else None,
             exit_zero=exit_zero,
             schema=schema,
             quiet=quiet,
@@ -134,6 +245,15 @@ def check(
             rule_options=_rule_options(
                 {"rail-min-width": rail_min_width, "refline-tolerance": refline_tolerance}
             ),
+            config=config,
+            isolated=isolated,
+            exclude=_split(exclude) or None,
+            jobs=jobs,
+            baseline=baseline,
+            write_baseline=write_baseline,
+            warn_unused_suppressions=warn_unused_suppressions,
+            show_suppressed=show_suppressed,
+            statistics=statistics,
         )
     )
     raise typer.Exit(code)
@@ -141,6 +261,23 @@ def check(
 
 def _rule_options(given: dict[str, float | None]) -> dict[str, float]:
     return {name: value for name, value in given.items() if value is not None}
+
+
+@app.command("config")
+def config_command(
+    paths: Annotated[
+        list[str] | None,
+        typer.Argument(help="The paths a check would take (the first decides the config)."),
+    ] = None,
+    config: Annotated[Path | None, typer.Option(help="Use this config file.")] = None,
+    output_format: Annotated[
+        str, typer.Option("--output-format", "-f", help="text or json.")
+    ] = "text",
+) -> None:
+    """Show the effective configuration and where each value comes from."""
+    from xodrlint.run import show_config
+
+    raise typer.Exit(show_config(tuple(paths or ["."]), config, output_format))
 
 
 @app.command("rules")

@@ -14,13 +14,24 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Final
 
+from lxml import etree
+
 from xodrlint.document import Document, load_bytes
-from xodrlint.findings import FileReport, Finding, Hit, Location, RuleOption, Severity
+from xodrlint.findings import (
+    FileReport,
+    Finding,
+    Hit,
+    Location,
+    RuleOption,
+    Severity,
+    Suppressed,
+)
 from xodrlint.model import build_network
 from xodrlint.registry import Registry
 from xodrlint.rules import Rule
 from xodrlint.schema import SchemaValidators
 from xodrlint.schemas import Origin, SchemaFinder
+from xodrlint.suppress import Suppressions, read_directives, unused_findings
 
 SCHEMA_RULE: Final = "XS006"
 #: Findings of these rules mean the file is not an OpenDRIVE tree: nothing else runs.
@@ -47,6 +58,10 @@ class LintOptions:
     """Attach the text of each finding's line to the report (for ``--show-source``)."""
     rule_options: Mapping[str, float] = field(default_factory=dict)
     """Rule option values by option name (``rail-min-width``); the rest keep defaults."""
+    keep_suppressed: bool = False
+    """Keep withheld findings in the report (SARIF lists them as suppressed)."""
+    warn_unused_suppressions: bool = False
+    """Report suppression comments that withhold nothing (XL001)."""
 
 
 def select_rules(registry: Registry, select: Sequence[str], ignore: Sequence[str]) -> list[Rule]:
@@ -115,15 +130,19 @@ class Linter:
         finder = SchemaFinder(option=self.options.schema, option_origin=self.options.schema_origin)
         self._validators = SchemaValidators(finder)
 
-    def lint_path(self, path: Path, display: str | None = None) -> FileReport:
+    def lint_path(
+        self, path: Path, display: str | None = None, external: ExternalIgnores = ()
+    ) -> FileReport:
         shown = display or path.as_posix()
         try:
             data = path.read_bytes()
         except OSError as error:
             return FileReport(shown, error=_os_error(error, shown))
-        return self.lint_bytes(data, shown)
+        return self.lint_bytes(data, shown, external)
 
-    def lint_bytes(self, data: bytes, path: str) -> FileReport:
+    def lint_bytes(self, data: bytes, path: str, external: ExternalIgnores = ()) -> FileReport:
+        """Lint one document; ``external`` withholds codes in it from outside the file
+        (``per-file-ignores``): (selector, justification) pairs."""
         doc = load_bytes(data, path)
         problems: dict[str, list[Hit]] = {code: list(hits) for code, hits in doc.problems.items()}
         schema_label, builtin = None, False
@@ -143,7 +162,8 @@ class Linter:
                 crashes.append(f"rule {candidate.code} failed on {path}: {error!r}")
                 continue
             stamped.extend(self._stamp(doc, candidate, hit) for hit in hits)
-        findings = sorted(_one_defect_one_finding(stamped), key=lambda f: f.sort_key)
+        kept, withheld = self._apply_suppressions(doc, _one_defect_one_finding(stamped), external)
+        findings = sorted(kept, key=lambda f: f.sort_key)
         source: dict[int, str] = {}
         if self.options.keep_source:
             for finding in findings:
@@ -158,7 +178,36 @@ class Linter:
             schema=schema_label,
             schema_builtin=builtin,
             internal_errors=tuple(crashes),
+            suppressed=tuple(withheld) if self.options.keep_suppressed else (),
         )
+
+    def _apply_suppressions(
+        self, doc: Document, stamped: list[_Stamped], external: ExternalIgnores
+    ) -> tuple[list[Finding], list[Suppressed]]:
+        suppressions = Suppressions(read_directives(doc.root), self._selector_matches)
+        kept: list[Finding] = []
+        withheld: list[Suppressed] = []
+        for item in stamped:
+            code = item.finding.code
+            directive = suppressions.withholding(code, item.element)
+            outside = next(
+                (why for sel, why in external if self._selector_matches(sel, code)), None
+            )
+            if directive is not None:
+                withheld.append(Suppressed(item.finding, "inSource", directive.reason))
+            elif outside is not None:
+                withheld.append(Suppressed(item.finding, "external", outside))
+            else:
+                kept.append(item.finding)
+        if self.options.warn_unused_suppressions:
+            kept.extend(unused_findings(doc, suppressions, self.options.severity))
+        return kept, withheld
+
+    def _selector_matches(self, selector: str, code: str) -> bool:
+        candidate = self.registry.by_code.get(code)
+        if candidate is None:
+            return selector.upper() == code or (bool(selector) and code.startswith(selector))
+        return _specificity(selector, candidate) is not None
 
     def _stamp(self, doc: Document, candidate: Rule, hit: Hit) -> _Stamped:
         meta = candidate.meta
@@ -182,7 +231,7 @@ class Linter:
             xpath=xpath,
             related=related,
         )
-        return _Stamped(finding, meta.defers_to if hit.deferrable else ())
+        return _Stamped(finding, meta.defers_to if hit.deferrable else (), hit.element)
 
 
 @dataclass(frozen=True, slots=True)
@@ -190,9 +239,13 @@ class _Stamped:
     finding: Finding
     defers_to: tuple[str, ...]
     """Codes whose finding on the same element withdraws this one."""
+    element: etree._Element | None
 
 
-def _one_defect_one_finding(stamped: list[_Stamped]) -> list[Finding]:
+ExternalIgnores = Sequence[tuple[str, str]]
+
+
+def _one_defect_one_finding(stamped: list[_Stamped]) -> list[_Stamped]:
     """Withdraw each finding a more specific rule reports on the same element.
 
     Rules declare what they defer to (the catalogue's chains, and the schema rule's
@@ -201,9 +254,7 @@ def _one_defect_one_finding(stamped: list[_Stamped]) -> list[Finding]:
     """
     reported = {(s.finding.xpath, s.finding.code) for s in stamped}
     return [
-        s.finding
-        for s in stamped
-        if not any((s.finding.xpath, code) in reported for code in s.defers_to)
+        s for s in stamped if not any((s.finding.xpath, code) in reported for code in s.defers_to)
     ]
 
 

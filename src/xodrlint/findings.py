@@ -7,6 +7,7 @@ import os
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from enum import StrEnum
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
@@ -100,8 +101,9 @@ def relative_path(path: str, root: str) -> str:
     """
     if path == "-" or not root:
         return path.replace(os.sep, "/")
-    absolute = os.path.abspath(path)
-    base = os.path.abspath(root)
+    # normpath, not resolve(): a path through a symlink is reported as the user wrote it
+    absolute = os.path.normpath(Path(path).absolute())
+    base = os.path.normpath(Path(root).absolute())
     if absolute == base or absolute.startswith(base.rstrip(os.sep) + os.sep):
         return os.path.relpath(absolute, base).replace(os.sep, "/")
     return path.replace(os.sep, "/")

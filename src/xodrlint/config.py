@@ -1,0 +1,308 @@
+"""Configuration: ``[tool.xodrlint]`` in ``pyproject.toml``, or ``xodrlint.toml`` /
+``.xodrlint.toml``, found by walking up from the first path; command-line values win.
+
+Every effective value remembers where it came from, for ``xodrlint config``. An unknown
+key or a value of the wrong type is a :class:`ConfigError` naming the key and the file.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import tomllib
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from functools import lru_cache
+from pathlib import Path
+from typing import Any, Final
+
+from xodrlint.findings import Severity
+
+#: Looked for in each folder, in this order; a pyproject.toml counts only with [tool.xodrlint].
+CONFIG_NAMES: Final = (".xodrlint.toml", "xodrlint.toml", "pyproject.toml")
+DEFAULT: Final = "default"
+COMMAND_LINE: Final = "command line"
+OUTPUT_FORMATS_HINT: Final = "an output format name"
+
+
+class ConfigError(ValueError):
+    """A configuration file that cannot be used; the message names the file and the key."""
+
+
+@dataclass(frozen=True)
+class ConfigFile:
+    path: Path
+    table: Mapping[str, Any]
+
+    @property
+    def base(self) -> Path:
+        """Relative paths and globs in the file are relative to its folder."""
+        return self.path.parent
+
+
+def find_config(start: Path) -> ConfigFile | None:
+    """The configuration that governs ``start``: the nearest one in it or above it."""
+    folder = start.resolve()
+    if not folder.is_dir():
+        folder = folder.parent
+    for candidate in (folder, *folder.parents):
+        for name in CONFIG_NAMES:
+            path = candidate / name
+            if path.is_file():
+                found = read_config(path, required=name != "pyproject.toml")
+                if found is not None:
+                    return found
+    return None
+
+
+def read_config(path: Path, *, required: bool = True) -> ConfigFile | None:
+    """Read one file; a ``pyproject.toml`` without ``[tool.xodrlint]`` gives ``None``."""
+    try:
+        document = tomllib.loads(path.read_text(encoding="utf-8"))
+    except OSError as error:
+        raise ConfigError(f"{path}: cannot read: {error.strerror or error}") from error
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as error:
+        raise ConfigError(f"{path}: not valid TOML: {error}") from error
+    if path.name == "pyproject.toml":
+        tool = document.get("tool", {})
+        table = tool.get("xodrlint") if isinstance(tool, dict) else None
+        if table is None:
+            if required:
+                raise ConfigError(f"{path}: has no [tool.xodrlint] table")
+            return None
+        if not isinstance(table, dict):
+            raise ConfigError(f"{path}: [tool.xodrlint] must be a table")
+        return ConfigFile(path, table)
+    return ConfigFile(path, document)
+
+
+@dataclass(frozen=True)
+class Settings:
+    """The effective configuration of a run, with the source of each value."""
+
+    select: tuple[str, ...] = ("ALL",)
+    extend_select: tuple[str, ...] = ()
+    ignore: tuple[str, ...] = ()
+    per_file_ignores: tuple[tuple[str, tuple[str, ...]], ...] = ()
+    """(glob, selectors) pairs; globs are relative to :attr:`base`."""
+    severity: Mapping[str, Severity] = field(default_factory=dict)
+    fail_on: Severity = Severity.WARNING
+    schema: Path | None = None
+    output_format: str = "text"
+    exclude: tuple[str, ...] = ()
+    rule_options: Mapping[str, float] = field(default_factory=dict)
+    warn_unused_suppressions: bool = False
+    base: Path = field(default_factory=Path.cwd)
+    config_file: Path | None = None
+    sources: Mapping[str, str] = field(default_factory=dict)
+
+    @property
+    def selected(self) -> tuple[str, ...]:
+        return (*self.select, *self.extend_select)
+
+    def source_of(self, key: str) -> str:
+        return self.sources.get(key, DEFAULT)
+
+    def as_rows(self) -> list[tuple[str, object, str]]:
+        """(key, value, source) for ``xodrlint config``, in a stable order."""
+        rows: list[tuple[str, object, str]] = [
+            ("select", list(self.select), self.source_of("select")),
+            ("extend-select", list(self.extend_select), self.source_of("extend-select")),
+            ("ignore", list(self.ignore), self.source_of("ignore")),
+            (
+                "per-file-ignores",
+                {glob: list(codes) for glob, codes in self.per_file_ignores},
+                self.source_of("per-file-ignores"),
+            ),
+            ("severity", {k: str(v) for k, v in self.severity.items()}, self.source_of("severity")),
+            ("fail-on", str(self.fail_on), self.source_of("fail-on")),
+            ("schema", str(self.schema) if self.schema else None, self.source_of("schema")),
+            ("output-format", self.output_format, self.source_of("output-format")),
+            ("exclude", list(self.exclude), self.source_of("exclude")),
+            (
+                "warn-unused-suppressions",
+                self.warn_unused_suppressions,
+                self.source_of("warn-unused-suppressions"),
+            ),
+        ]
+        rows += [
+            (name, value, self.source_of(name)) for name, value in sorted(self.rule_options.items())
+        ]
+        return rows
+
+
+# --- reading values -------------------------------------------------------------------
+
+_Reader = Callable[[object], object]
+
+
+def _strings(value: object) -> tuple[str, ...]:
+    if isinstance(value, str):
+        return (value,)
+    if isinstance(value, list) and all(isinstance(item, str) for item in value):
+        return tuple(value)
+    raise TypeError("a list of strings")
+
+
+def _severity(value: object) -> Severity:
+    if isinstance(value, str) and value in {str(s) for s in Severity}:
+        return Severity(value)
+    raise TypeError("one of 'error', 'warning', 'info'")
+
+
+def _text(value: object) -> str:
+    if isinstance(value, str) and value:
+        return value
+    raise TypeError("a non-empty string")
+
+
+def _boolean(value: object) -> bool:
+    if isinstance(value, bool):
+        return value
+    raise TypeError("true or false")
+
+
+def _number(value: object) -> float:
+    if isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value):
+        return float(value)
+    raise TypeError("a finite number")
+
+
+def _globs_to_codes(value: object) -> tuple[tuple[str, tuple[str, ...]], ...]:
+    if not isinstance(value, dict):
+        raise TypeError("a table of glob = [codes]")
+    return tuple((str(glob), _strings(codes)) for glob, codes in value.items())
+
+
+def _code_to_severity(value: object) -> dict[str, Severity]:
+    if not isinstance(value, dict):
+        raise TypeError("a table of CODE = 'error' | 'warning' | 'info'")
+    return {str(code): _severity(level) for code, level in value.items()}
+
+
+_READERS: Final[Mapping[str, _Reader]] = {
+    "select": _strings,
+    "extend-select": _strings,
+    "ignore": _strings,
+    "per-file-ignores": _globs_to_codes,
+    "severity": _code_to_severity,
+    "fail-on": _severity,
+    "schema": _text,
+    "output-format": _text,
+    "exclude": _strings,
+    "warn-unused-suppressions": _boolean,
+}
+
+
+def settings_from(
+    config: ConfigFile | None,
+    overrides: Mapping[str, object],
+    *,
+    option_names: Iterable[str] = (),
+    known_codes: Iterable[str] = (),
+) -> Settings:
+    """The effective settings: defaults, then ``config``, then ``overrides`` (the command
+    line, ``None`` meaning not given). ``option_names`` are the rule options rules declare;
+    ``known_codes`` the rule codes ``severity`` may name."""
+    options = set(option_names)
+    values: dict[str, object] = {}
+    sources: dict[str, str] = {}
+    if config is not None:
+        values.update(_validated(config, options, set(known_codes)))
+        sources.update(dict.fromkeys(values, str(config.path)))
+    for key, value in overrides.items():
+        if value is not None:
+            values[key] = value
+            sources[key] = COMMAND_LINE
+    base = config.base if config is not None else Path.cwd()
+    schema = values.get("schema")
+    if isinstance(schema, str) and sources.get("schema") != COMMAND_LINE:
+        schema = base / schema  # a relative schema path in a file is relative to the file
+    return Settings(
+        select=tuple(_get(values, "select", ("ALL",))),
+        extend_select=tuple(_get(values, "extend-select", ())),
+        ignore=tuple(_get(values, "ignore", ())),
+        per_file_ignores=tuple(_get(values, "per-file-ignores", ())),
+        severity=dict(_get(values, "severity", {})),
+        fail_on=Severity(_get(values, "fail-on", Severity.WARNING)),
+        schema=Path(schema) if isinstance(schema, str | Path) else None,
+        output_format=str(_get(values, "output-format", "text")),
+        exclude=tuple(_get(values, "exclude", ())),
+        rule_options={name: float(values[name]) for name in options if name in values},  # type: ignore[arg-type]
+        warn_unused_suppressions=bool(values.get("warn-unused-suppressions", False)),
+        base=base,
+        config_file=config.path if config is not None else None,
+        sources=sources,
+    )
+
+
+def _get(values: Mapping[str, object], key: str, default: Any) -> Any:
+    return values.get(key, default)
+
+
+def _validated(config: ConfigFile, options: set[str], codes: set[str]) -> dict[str, object]:
+    where = (
+        f"{config.path} [tool.xodrlint]" if config.path.name == "pyproject.toml" else config.path
+    )
+    values: dict[str, object] = {}
+    for key, raw in config.table.items():
+        reader = _READERS.get(key) or (_number if key in options else None)
+        if reader is None:
+            known = ", ".join(sorted([*_READERS, *options]))
+            raise ConfigError(f"{where}: unknown key '{key}' (known: {known})")
+        try:
+            values[key] = reader(raw)
+        except TypeError as expected:
+            raise ConfigError(f"{where}: '{key}' must be {expected}, got {raw!r}") from None
+        if key in options and values[key] < 0:  # type: ignore[operator]
+            raise ConfigError(f"{where}: '{key}' must not be negative, got {raw!r}")
+    unknown = [code for code in _get(values, "severity", {}) if codes and code not in codes]
+    if unknown:
+        raise ConfigError(f"{where}: 'severity' names no rule '{unknown[0]}'")
+    return values
+
+
+# --- globs -----------------------------------------------------------------------------
+
+
+@lru_cache(maxsize=256)
+def _glob_regex(pattern: str) -> re.Pattern[str]:
+    """A glob as a regex on POSIX paths: ``*`` and ``?`` stay within a folder, ``**``
+    crosses folders, and a pattern without ``/`` matches a name at any depth."""
+    glob = pattern.strip().replace("\\", "/").removeprefix("./")
+    if "/" not in glob.rstrip("/"):
+        glob = "**/" + glob
+    parts: list[str] = []
+    index = 0
+    while index < len(glob):
+        if glob.startswith("**/", index):
+            parts.append("(?:.*/)?")
+            index += 3
+        elif glob.startswith("**", index):
+            parts.append(".*")
+            index += 2
+        elif glob[index] == "*":
+            parts.append("[^/]*")
+            index += 1
+        elif glob[index] == "?":
+            parts.append("[^/]")
+            index += 1
+        else:
+            parts.append(re.escape(glob[index]))
+            index += 1
+    # a folder pattern matches everything below it
+    return re.compile("".join(parts).rstrip("/") + "(?:/.*)?")
+
+
+def matches(pattern: str, path: str | Path, base: Path) -> bool:
+    """Whether ``path`` (a file) matches ``pattern``, relative to ``base``."""
+    candidate = Path(path)
+    try:
+        relative = candidate.resolve().relative_to(base.resolve()).as_posix()
+    except ValueError:
+        relative = candidate.as_posix()
+    return _glob_regex(pattern).fullmatch(relative) is not None
+
+
+def any_match(patterns: Sequence[str], path: str | Path, base: Path) -> bool:
+    return any(matches(pattern, path, base) for pattern in patterns)

@@ -1,0 +1,151 @@
+"""Inline suppressions: XML comments that withhold findings, read from the parsed tree.
+
+``<!-- xodrlint: ignore[PT001,SW] reason -->`` right before an element withholds those
+codes on that element and everything inside it; ``<!-- xodrlint: ignore-file[ST011] -->``
+anywhere withholds them in the whole file. Entries are what ``--select`` takes: codes,
+code prefixes, rule names or UIDs. The engine applies them after the one-defect-one-
+finding policy, so a withheld finding never lets a less specific one through.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable, Iterator, Mapping
+from dataclasses import dataclass, field
+from typing import Final
+
+from lxml import etree
+
+from xodrlint.document import Document
+from xodrlint.findings import Finding, RuleMeta, Severity
+
+DIRECTIVE: Final = re.compile(
+    r"^\s*xodrlint:\s*(?P<scope>ignore-file|ignore)\s*\[(?P<codes>[^\]]*)\]\s*(?P<reason>.*?)\s*$",
+    re.DOTALL,
+)
+FILE_SCOPE: Final = "ignore-file"
+
+#: Whether a selector (code, prefix, name or UID) names a rule code.
+Matcher = Callable[[str, str], bool]
+
+
+@dataclass
+class Directive:
+    comment: etree._Element
+    scope: str
+    selectors: tuple[str, ...]
+    reason: str
+    target: etree._Element | None
+    """The element an ``ignore`` comment stands before; ``None`` for ``ignore-file`` and
+    for a comment with no element after it."""
+    used: set[str] = field(default_factory=set)
+    """The selectors that withheld at least one finding."""
+
+    @property
+    def is_file_wide(self) -> bool:
+        return self.scope == FILE_SCOPE
+
+
+def read_directives(root: etree._Element | None) -> list[Directive]:
+    """Every suppression comment of the document, in document order."""
+    if root is None:
+        return []
+    comments = [
+        *reversed(list(root.itersiblings(etree.Comment, preceding=True))),
+        *root.iter(etree.Comment),
+        *root.itersiblings(etree.Comment),
+    ]
+    found = []
+    for comment in comments:
+        match = DIRECTIVE.match(comment.text or "")
+        if match is None:
+            continue
+        selectors = tuple(s.strip() for s in match["codes"].split(",") if s.strip())
+        file_wide = match["scope"] == FILE_SCOPE
+        target = None if file_wide else _next_element(comment)
+        found.append(Directive(comment, match["scope"], selectors, match["reason"], target))
+    return found
+
+
+def _next_element(comment: etree._Element) -> etree._Element | None:
+    for sibling in comment.itersiblings():
+        if isinstance(sibling.tag, str):
+            return sibling
+    return None
+
+
+class Suppressions:
+    """Answers "is this code withheld on this element?" for one document."""
+
+    def __init__(self, directives: list[Directive], matches: Matcher) -> None:
+        self.directives = directives
+        self._matches = matches
+        self._by_target: dict[etree._Element, list[Directive]] = {}
+        self._file_wide = [d for d in directives if d.is_file_wide]
+        for directive in directives:
+            if directive.target is not None:
+                self._by_target.setdefault(directive.target, []).append(directive)
+
+    def __bool__(self) -> bool:
+        return bool(self.directives)
+
+    def withholding(self, code: str, element: etree._Element | None) -> Directive | None:
+        """The directive that withholds ``code`` on ``element``, marking it used."""
+        for directive in self._candidates(element):
+            for selector in directive.selectors:
+                if self._matches(selector, code):
+                    directive.used.add(selector)
+                    return directive
+        return None
+
+    def _candidates(self, element: etree._Element | None) -> Iterator[Directive]:
+        current = element
+        while current is not None and self._by_target:
+            yield from self._by_target.get(current, ())
+            current = current.getparent()
+        yield from self._file_wide
+
+    def unused(self) -> Iterator[tuple[Directive, tuple[str, ...]]]:
+        """Each directive with the selectors that withheld nothing (all of them, if none
+        did; an entry that names no rule is always unused)."""
+        for directive in self.directives:
+            idle = tuple(s for s in directive.selectors if s not in directive.used)
+            if idle or not directive.selectors:
+                yield directive, idle
+
+
+UNUSED_META: Final = RuleMeta(
+    code="XL001",
+    name="unused-suppression",
+    uid="xodrlint:xodr:1.0.0:suppression.unused",
+    severity=Severity.WARNING,
+    summary="a suppression comment withholds no finding",
+    doc=(
+        "XL001 unused-suppression: a suppression comment withholds no finding.\n\n"
+        "## What it does\nReported with `--warn-unused-suppressions`: an "
+        "`xodrlint: ignore[...]` or `ignore-file[...]` comment, or one of its entries, that "
+        "withholds nothing in this run (the defect was fixed, or the entry names no rule).\n\n"
+        "## Why is this bad?\nA stale suppression hides the next real defect of that kind.\n"
+    ),
+    pack="xodrlint.suppress",
+)
+
+
+def unused_findings(
+    doc: Document, suppressions: Suppressions, severity: Mapping[str, Severity]
+) -> Iterator[Finding]:
+    """An XL001 finding per suppression comment with entries that withheld nothing."""
+    for directive, idle in suppressions.unused():
+        anchor = directive.target if directive.target is not None else directive.comment.getparent()
+        shown = ", ".join(idle) if idle else "nothing"
+        yield Finding(
+            path=doc.path,
+            line=doc.line_of(directive.comment),
+            column=None,
+            code=UNUSED_META.code,
+            uid=UNUSED_META.uid,
+            severity=severity.get(UNUSED_META.code, UNUSED_META.severity),
+            message=f"'xodrlint: {directive.scope}[{', '.join(directive.selectors)}]' "
+            f"withholds no finding ({shown})",
+            xpath=doc.xpath_of(anchor) if anchor is not None else "/",
+        )

@@ -1,0 +1,86 @@
+"""Batch runs: worker processes, input order, a crashing worker, globs, excludes, statistics."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+from pathlib import Path
+
+from typer.testing import CliRunner, Result
+
+from xodrlint.api import default_registry
+from xodrlint.batch import Task, lint_in_worker, lint_tasks
+from xodrlint.cli import app
+from xodrlint.engine import Linter, LintOptions
+from xodrlint.findings import FileReport
+
+from .conftest import REPO
+
+CASES = sorted(REPO.glob("rules/[A-Z]*/*.xodr"))[:60]
+
+
+def run(*args: str | Path) -> Result:
+    return CliRunner().invoke(app, [str(a) for a in args])
+
+
+def _copy_cases(target: Path) -> Path:
+    for index, case in enumerate(CASES):
+        folder = target / f"group{index % 3}"
+        folder.mkdir(parents=True, exist_ok=True)
+        shutil.copy(case, folder / f"{index:03}-{case.parent.name}-{case.name}")
+    return target
+
+
+def test_output_is_identical_whatever_the_number_of_jobs(tmp_path: Path) -> None:
+    maps = _copy_cases(tmp_path / "maps")
+    one = run("check", "-f", "json", "-j", "1", maps)
+    two = run("check", "-f", "json", "-j", "2", maps)
+    assert one.exit_code == two.exit_code == 1
+    assert one.stdout == two.stdout
+    assert len(json.loads(one.stdout)["files"]) == len(CASES)
+    assert one.stderr == two.stderr == ""  # no progress bar when stderr is not a terminal
+
+
+def crash_on_marked_files(task: Task) -> FileReport:
+    """A worker that dies (as a segfault in a C library would) on files named *crash*."""
+    if "crash" in task.display:
+        os._exit(70)
+    return lint_in_worker(task)
+
+
+def test_a_file_that_kills_its_worker_is_an_error_and_the_rest_go_on(tmp_path: Path) -> None:
+    paths = []
+    for index in range(8):
+        name = "crash.xodr" if index == 3 else f"map{index}.xodr"
+        shutil.copy(REPO / "examples" / "broken.xodr", tmp_path / name)
+        paths.append(tmp_path / name)
+    linter = Linter(default_registry(), LintOptions())
+    tasks = [Task(path, path.name) for path in paths]
+    reports = lint_tasks(linter, tasks, 2, worker=crash_on_marked_files)
+    assert [r.path for r in reports] == [p.name for p in paths]
+    assert reports[3].error == "crash.xodr: the worker linting it crashed"
+    assert all(len(r.findings) == 6 and r.error is None for i, r in enumerate(reports) if i != 3)
+
+
+def test_globs_and_excludes(tmp_path: Path) -> None:
+    maps = _copy_cases(tmp_path / "maps")
+    pattern = f"{maps}/**/*-PT00*.xodr"
+    everything = json.loads(run("check", "-f", "json", pattern).stdout)["files"]
+    assert everything and all("-PT00" in Path(f["path"]).name for f in everything)
+    assert all(f["error"] is None for f in everything)
+    kept = json.loads(run("check", "-f", "json", pattern, "--exclude", "group1/").stdout)["files"]
+    assert kept and all("/group1/" not in f["path"] for f in kept)
+    assert len(kept) < len(everything)
+    nothing = run("check", f"{maps}/**/*.nomatch")
+    assert nothing.exit_code == 2 and "no file matches" in nothing.stderr
+
+
+def test_statistics_counts_per_rule() -> None:
+    out = run("check", "--statistics", REPO / "examples" / "broken.xodr").stdout
+    assert out.splitlines() == [
+        "     3  XS006  [error]   schema-violation",
+        "     1  RL003  [error]   rail-lane-too-narrow",
+        "     1  ST004  [error]   segment-s-out-of-range",
+        "     1  SW006  [warning] side-track-not-at-end",
+    ]

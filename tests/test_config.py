@@ -1,0 +1,199 @@
+"""Configuration files: discovery, validation, precedence, and ``xodrlint config``."""
+
+from __future__ import annotations
+
+import json
+import textwrap
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner, Result
+
+from xodrlint.cli import app
+from xodrlint.config import ConfigError, find_config, matches, read_config
+
+from .conftest import REPO
+
+BROKEN = REPO / "examples" / "broken.xodr"
+CLEAN = REPO / "examples" / "clean.xodr"
+
+
+def run(*args: str | Path, cwd: Path | None = None) -> Result:
+    return CliRunner().invoke(app, [str(a) for a in args])
+
+
+def _project(tmp_path: Path, config_name: str, text: str) -> Path:
+    (tmp_path / "maps" / "old").mkdir(parents=True)
+    (tmp_path / "maps" / "broken.xodr").write_bytes(BROKEN.read_bytes())
+    (tmp_path / "maps" / "old" / "legacy.xodr").write_bytes(BROKEN.read_bytes())
+    (tmp_path / config_name).write_text(textwrap.dedent(text), "utf-8")
+    return tmp_path
+
+
+def _codes(result: Result) -> list[str]:
+    return [f["code"] for f in json.loads(result.stdout)["findings"]]
+
+
+@pytest.mark.parametrize(
+    ("name", "text"),
+    [
+        ("pyproject.toml", '[project]\nname = "x"\n[tool.xodrlint]\nselect = ["XS"]\n'),
+        ("xodrlint.toml", 'select = ["XS"]\n'),
+        (".xodrlint.toml", 'select = ["XS"]\n'),
+    ],
+)
+def test_config_is_found_by_walking_up(tmp_path: Path, name: str, text: str) -> None:
+    project = _project(tmp_path, name, text)
+    found = find_config(project / "maps" / "old" / "legacy.xodr")
+    assert found is not None and found.path == project / name
+    result = run("check", "-f", "json", project / "maps" / "broken.xodr")
+    assert set(_codes(result)) == {"XS006"}
+
+
+def test_pyproject_without_table_is_skipped(tmp_path: Path) -> None:
+    (tmp_path / "pyproject.toml").write_text('[project]\nname = "x"\n', "utf-8")
+    (tmp_path / "sub").mkdir()
+    assert find_config(tmp_path / "sub") is None or find_config(tmp_path / "sub").path != (  # type: ignore[union-attr]
+        tmp_path / "pyproject.toml"
+    )
+
+
+def test_dotted_name_wins_over_plain_and_pyproject(tmp_path: Path) -> None:
+    for name in (".xodrlint.toml", "xodrlint.toml"):
+        (tmp_path / name).write_text('select = ["XS"]\n', "utf-8")
+    (tmp_path / "pyproject.toml").write_text('[tool.xodrlint]\nselect = ["SW"]\n', "utf-8")
+    found = find_config(tmp_path)
+    assert found is not None and found.path.name == ".xodrlint.toml"
+
+
+def test_command_line_overrides_the_file(tmp_path: Path) -> None:
+    project = _project(tmp_path, "xodrlint.toml", 'select = ["XS"]\nfail-on = "error"\n')
+    result = run("check", "-f", "json", "--select", "RL", project / "maps" / "broken.xodr")
+    assert _codes(result) == ["RL003"]
+    assert result.exit_code == 1
+
+
+def test_every_key(tmp_path: Path) -> None:
+    project = _project(
+        tmp_path,
+        "xodrlint.toml",
+        """
+        select = ["XS", "SW"]
+        extend-select = ["RL003"]
+        ignore = ["SW006"]
+        exclude = ["old/"]
+        fail-on = "error"
+        output-format = "json"
+        rail-min-width = 0.9
+        refline-tolerance = 0.1
+        warn-unused-suppressions = true
+
+        [severity]
+        XS006 = "warning"
+
+        [per-file-ignores]
+        "maps/b*.xodr" = ["XS006"]
+        """,
+    )
+    result = run("check", project / "maps")
+    document = json.loads(result.stdout)
+    assert [f["path"] for f in document["files"]] == [f"{project}/maps/broken.xodr"]
+    # XS006 withheld by per-file-ignores, SW006 ignored, RL003 satisfied by 0.9 m
+    assert document["findings"] == []
+    assert result.exit_code == 0
+
+    shown = run("config", project / "maps", "-f", "json")
+    settings = json.loads(shown.stdout)["settings"]
+    assert settings["rail-min-width"] == {"value": 0.9, "source": str(project / "xodrlint.toml")}
+    assert settings["severity"]["value"] == {"XS006": "warning"}
+    assert settings["output-format"]["source"] == str(project / "xodrlint.toml")
+
+
+def test_severity_override_changes_the_exit_code(tmp_path: Path) -> None:
+    project = _project(
+        tmp_path,
+        "xodrlint.toml",
+        'select = ["RL003"]\nfail-on = "error"\n[severity]\nRL003 = "warning"\n',
+    )
+    result = run("check", "-f", "json", project / "maps" / "broken.xodr")
+    assert [f["severity"] for f in json.loads(result.stdout)["findings"]] == ["warning"]
+    assert result.exit_code == 0
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ('selct = ["XS"]\n', "unknown key 'selct'"),
+        ('select = "XS006"\nfail-on = "fatal"\n', "'fail-on' must be one of"),
+        ("rail-min-width = 'wide'\n", "'rail-min-width' must be a finite number"),
+        ("rail-min-width = -1\n", "'rail-min-width' must not be negative"),
+        ("[severity]\nXX999 = 'error'\n", "'severity' names no rule 'XX999'"),
+        ("[per-file-ignores]\n'*.xodr' = 3\n", "'per-file-ignores' must be"),
+        ("select = [\n", "not valid TOML"),
+        ('select = ["NOPE"]\n', "'NOPE' matches no rule"),
+        ("[per-file-ignores]\n'*.xodr' = ['NOPE']\n", "'NOPE' matches no rule"),
+    ],
+)
+def test_bad_config_is_exit_2_naming_the_file_and_key(
+    tmp_path: Path, text: str, message: str
+) -> None:
+    project = _project(tmp_path, "xodrlint.toml", text)
+    result = run("check", project / "maps" / "broken.xodr")
+    assert result.exit_code == 2, result.output
+    assert message in result.stderr
+    if "matches no rule" not in message:
+        assert str(project / "xodrlint.toml") in result.stderr
+    assert result.stdout == ""
+
+
+def test_explicit_config_and_isolated(tmp_path: Path) -> None:
+    project = _project(tmp_path, "xodrlint.toml", 'select = ["RL"]\n')
+    other = tmp_path / "other.toml"
+    other.write_text('select = ["ST"]\n', "utf-8")
+    target = project / "maps" / "broken.xodr"
+    assert _codes(run("check", "-f", "json", target)) == ["RL003"]
+    assert _codes(run("check", "-f", "json", "--config", other, target)) == ["ST004"]
+    assert len(_codes(run("check", "-f", "json", "--isolated", target))) == 6
+    missing = run("check", "--config", tmp_path / "nope.toml", target)
+    assert missing.exit_code == 2 and "nope.toml: cannot read" in missing.stderr
+
+
+def test_config_command_shows_defaults_and_sources(tmp_path: Path) -> None:
+    project = _project(tmp_path, "pyproject.toml", '[tool.xodrlint]\nignore = ["SW006"]\n')
+    out = run("config", project).stdout
+    assert f"config file: {project / 'pyproject.toml'}" in out
+    assert 'ignore                    ["SW006"]' in out
+    assert f"# {project / 'pyproject.toml'}" in out
+    assert "# default" in out
+
+
+def test_schema_path_in_a_config_is_relative_to_the_file(tmp_path: Path) -> None:
+    project = _project(tmp_path, "xodrlint.toml", 'schema = "schemas/core.xsd"\n')
+    result = run("check", project / "maps" / "broken.xodr")
+    assert result.exit_code == 2
+    assert f"schema {project / 'schemas' / 'core.xsd'}: no such file or folder" in result.stderr
+
+
+@pytest.mark.parametrize(
+    ("pattern", "path", "expected"),
+    [
+        ("*.xodr", "a/b/c.xodr", True),
+        ("maps/*.xodr", "maps/x.xodr", True),
+        ("maps/*.xodr", "maps/sub/x.xodr", False),
+        ("maps/**/*.xodr", "maps/sub/deep/x.xodr", True),
+        ("maps/**/*.xodr", "maps/x.xodr", True),
+        ("old/", "old/x.xodr", True),
+        ("old", "maps/old/x.xodr", True),
+        ("x?.xodr", "x1.xodr", True),
+        ("x?.xodr", "x10.xodr", False),
+    ],
+)
+def test_globs(tmp_path: Path, pattern: str, path: str, expected: bool) -> None:
+    assert matches(pattern, tmp_path / path, tmp_path) is expected
+
+
+def test_read_config_errors_name_the_file(tmp_path: Path) -> None:
+    path = tmp_path / "pyproject.toml"
+    path.write_text("[tool]\nxodrlint = 3\n", "utf-8")
+    with pytest.raises(ConfigError, match="must be a table"):
+        read_config(path)

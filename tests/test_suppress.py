@@ -1,0 +1,177 @@
+"""Inline suppressions in XML comments, unused-suppression warnings, and the baseline."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from typer.testing import CliRunner, Result
+
+from xodrlint.api import default_registry
+from xodrlint.cli import app
+from xodrlint.engine import Linter, LintOptions
+
+from .conftest import REPO
+
+BROKEN = REPO / "examples" / "broken.xodr"
+SWITCH_102 = '      <switch id="102" position="dynamic">'
+SEGMENT = '      <segment roadId="1" sStart="60" sEnd="240" side="up"/>'
+
+
+def _variant(tmp_path: Path, *replacements: tuple[str, str]) -> Path:
+    text = BROKEN.read_text("utf-8")
+    for old, new in replacements:
+        assert old in text, old
+        text = text.replace(old, new)
+    path = tmp_path / "map.xodr"
+    path.write_text(text, "utf-8")
+    return path
+
+
+def _lint(path: Path, **options: object) -> list[tuple[str, int]]:
+    report = Linter(default_registry(), LintOptions(**options)).lint_path(path)  # type: ignore[arg-type]
+    return [(f.code, f.line) for f in report.findings]
+
+
+def test_ignore_before_an_element_covers_its_subtree(tmp_path: Path) -> None:
+    path = _variant(
+        tmp_path,
+        (
+            SWITCH_102,
+            "      <!-- xodrlint: ignore[XS006, SW006] W2 is renamed in ticket 42 -->\n"
+            + SWITCH_102,
+        ),
+    )
+    codes = [code for code, _ in _lint(path)]
+    assert codes.count("XS006") == 2  # switch 101 and the segment stay
+    assert "SW006" not in codes  # the sideTrack inside switch 102 is covered
+
+
+def test_ignore_matches_prefixes_names_and_uids(tmp_path: Path) -> None:
+    path = _variant(
+        tmp_path,
+        (
+            SEGMENT,
+            "      <!-- xodrlint: ignore[segment-s-out-of-range, asam.net:xodr:1.0.0:xml.valid_schema] -->\n"
+            + SEGMENT,
+        ),
+    )
+    assert [c for c, _ in _lint(path)] == ["XS006", "XS006", "SW006", "RL003"]
+
+
+def test_ignore_file_applies_anywhere(tmp_path: Path) -> None:
+    path = _variant(
+        tmp_path, ("</OpenDRIVE>", "<!-- xodrlint: ignore-file[XS, RL] -->\n</OpenDRIVE>")
+    )
+    assert [c for c, _ in _lint(path)] == ["SW006", "ST004"]
+
+
+def test_suppression_applies_after_the_chains(tmp_path: Path) -> None:
+    # partner '999' names no switch: PT001; withholding PT001 must not let SW002/PT002 through
+    path = _variant(
+        tmp_path,
+        (
+            '<partner name="W2" id="102"/>',
+            '<!-- xodrlint: ignore[PT001] -->\n        <partner name="W2" id="999"/>',
+        ),
+    )
+    linter = Linter(default_registry(), LintOptions(select=("PT", "SW"), keep_suppressed=True))
+    report = linter.lint_path(path)
+    partner = "/OpenDRIVE/road[@id='1']/railroad/switch[@id='101']/partner"
+    assert [f.code for f in report.findings if f.xpath == partner] == []
+    assert [s.finding.code for s in report.suppressed] == ["PT001"]
+    # switch 102's partner is a defect of its own: 101 does not answer it
+    assert "PT002" in [f.code for f in report.findings]
+
+
+def test_a_comment_that_is_not_a_directive_changes_nothing(tmp_path: Path) -> None:
+    path = _variant(tmp_path, (SEGMENT, "      <!-- xodrlint ignore PT001 -->\n" + SEGMENT))
+    assert len(_lint(path)) == 6
+
+
+def test_unused_suppressions_are_reported_when_asked(tmp_path: Path) -> None:
+    path = _variant(
+        tmp_path,
+        (SEGMENT, "      <!-- xodrlint: ignore[ST004, PT001] -->\n" + SEGMENT),
+        ("</OpenDRIVE>", "<!-- xodrlint: ignore-file[NOPE999] -->\n</OpenDRIVE>"),
+    )
+    assert "XL001" not in [c for c, _ in _lint(path)]
+    unused = [(c, line) for c, line in _lint(path, warn_unused_suppressions=True) if c == "XL001"]
+    lines = path.read_text("utf-8").splitlines()
+    assert unused == [
+        ("XL001", lines.index("      <!-- xodrlint: ignore[ST004, PT001] -->") + 1),
+        ("XL001", len(lines) - 1),
+    ]
+
+
+def test_suppressed_findings_are_kept_only_when_asked(tmp_path: Path) -> None:
+    path = _variant(
+        tmp_path, (SEGMENT, "      <!-- xodrlint: ignore[ST004] not our map -->\n" + SEGMENT)
+    )
+    linter = Linter(default_registry(), LintOptions(keep_suppressed=True))
+    report = linter.lint_path(path)
+    [withheld] = report.suppressed
+    assert (withheld.finding.code, withheld.kind, withheld.justification) == (
+        "ST004",
+        "inSource",
+        "not our map",
+    )
+    assert Linter(default_registry(), LintOptions()).lint_path(path).suppressed == ()
+
+
+def run(*args: str | Path) -> Result:
+    return CliRunner().invoke(app, [str(a) for a in args])
+
+
+def test_baseline_reports_only_new_findings(tmp_path: Path, monkeypatch: object) -> None:
+    import os
+
+    os.chdir(tmp_path)
+    try:
+        maps = tmp_path / "maps"
+        maps.mkdir()
+        (maps / "a.xodr").write_bytes(BROKEN.read_bytes())
+        baseline = tmp_path / "baseline.json"
+        written = run("check", "maps", "--write-baseline", baseline)
+        assert written.exit_code == 0
+        assert "recorded 6 findings" in written.stderr
+        document = json.loads(baseline.read_text("utf-8"))
+        assert {e["path"] for e in document["findings"]} == {"maps/a.xodr"}
+
+        assert run("check", "maps", "--baseline", baseline).exit_code == 0
+        # lines moved by an edit above do not matter; a new defect does
+        text = (maps / "a.xodr").read_text("utf-8")
+        text = text.replace("<OpenDRIVE>", "<OpenDRIVE>\n  <!-- a new comment -->\n", 1)
+        text = text.replace('<switch name="W1" id="101"', '<switch name="W1" id="103"')
+        (maps / "a.xodr").write_text(text, "utf-8")
+        result = run("check", "-f", "json", "maps", "--baseline", baseline)
+        findings = json.loads(result.stdout)["findings"]
+        assert [f["code"] for f in findings] == ["XS006", "PT002", "PT001"]
+        assert result.exit_code == 1
+    finally:
+        os.chdir(REPO)
+
+
+def test_bad_baseline_is_exit_2(tmp_path: Path) -> None:
+    bad = tmp_path / "baseline.json"
+    bad.write_text("[1, 2]", "utf-8")
+    result = run("check", BROKEN, "--baseline", bad)
+    assert result.exit_code == 2
+    assert "not an xodrlint baseline" in result.stderr
+
+
+def test_the_documented_example_is_the_shipped_one_and_withholds_three_findings() -> None:
+    doc = (REPO / "docs" / "suppressions.md").read_text("utf-8")
+    example = (REPO / "examples" / "suppressed.xodr").read_text("utf-8")
+    blocks = doc.split("```xml\n")[1:]
+    assert blocks
+    for block in blocks:
+        assert block.split("```", 1)[0] in example
+    linter = Linter(default_registry(), LintOptions(keep_suppressed=True))
+    report = linter.lint_path(REPO / "examples" / "suppressed.xodr")
+    assert [f.code for f in report.findings] == ["XS006", "ST004", "XS006"]
+    assert sorted((s.finding.code, s.justification) for s in report.suppressed) == [
+        ("RL003", "the siding is metre gauge"),
+        ("SW006", "W2 is replaced in ticket 4711"),
+        ("XS006", "W2 is replaced in ticket 4711"),
+    ]
