@@ -65,6 +65,8 @@ def test_crlf_and_comments_containing_tags_do_not_shift_lines() -> None:
         ("utf-8", codecs.BOM_UTF8),
         ("utf-16-le", codecs.BOM_UTF16_LE),
         ("utf-16-be", codecs.BOM_UTF16_BE),
+        ("utf-16-be", b""),  # no byte order mark: the zero byte before '<' tells
+        ("utf-16-le", b""),
     ],
 )
 def test_bom_and_declared_encodings(encoding: str, bom: bytes) -> None:

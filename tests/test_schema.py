@@ -185,3 +185,69 @@ def test_schema_paths_with_dotdot_still_compile(tmp_path: Path) -> None:
     dotted = tmp_path / "x" / ".." / "sets"
     (tmp_path / "x").mkdir()
     assert _lint(REPO / "examples" / "clean.xodr", dotted).findings == ()
+
+
+def _official(text: str, tmp_path: Path, name: str = "t.xodr") -> list[tuple[int, str]]:
+    path = tmp_path / name
+    path.write_text(text, "utf-8")
+    return sorted((f.line, f.code) for f in _lint(path, SHARED_SCHEMAS).findings)
+
+
+SWITCH_EXAMPLE = "ASAM-1.7.0_Ex_Railway-Switch.xodr"
+
+
+@needs_shared
+def test_a_rule_takes_over_only_its_own_schema_error(tmp_path: Path) -> None:
+    source = (CORPUS_RAIL / SWITCH_EXAMPLE).read_text()
+    # switch 32 gets switch 12's id and loses its side track: the duplicate id is SW007's,
+    # the missing side track stays an XS006 finding on the same element
+    text = source.replace('<switch name="Switch32" id="32"', '<switch name="Switch32" id="12"')
+    start = text.index('<sideTrack id="2" s="3.4898261533109149e+01" dir="-"/>')
+    text = text[:start] + text[start:].replace(
+        '<sideTrack id="2" s="3.4898261533109149e+01" dir="-"/>', "", 1
+    )
+    path = tmp_path / "t.xodr"
+    path.write_text(text, "utf-8")
+    findings = _lint(path, SHARED_SCHEMAS).findings
+    line = text[: text.index('<switch name="Switch32"')].count("\n") + 1
+    assert (line, "SW007") in [(f.line, f.code) for f in findings]
+    assert [f.message for f in findings if f.code == "XS006"] == [
+        "'partner' is not allowed here in OpenDRIVE 1.7; expected 'sideTrack'"
+    ]
+
+
+@needs_shared
+def test_keyref_errors_on_one_line_go_to_the_element_that_holds_the_key(tmp_path: Path) -> None:
+    source = (CORPUS_RAIL / "ASAM-1.7.0_Ex_Railway-Station.xodr").read_text()
+    import re
+
+    segments = re.findall(r"<segment [^>]*/>", source)
+    first, second = segments[0], segments[1]
+    # the bad road id equals an attribute value of the good segment before it
+    bad_second = re.sub(r'roadId="[^"]*"', 'roadId="5.1000000000000000e+01"', second)
+    one_line = source.replace(first, "").replace(second, first + bad_second)
+    codes = [code for _, code in _official(one_line, tmp_path)]
+    assert "ST003" in codes and "XS006" not in codes  # not pinned on the good neighbour
+
+
+@needs_shared
+def test_station_holding_only_user_data_is_st001_only(tmp_path: Path) -> None:
+    source = (CORPUS_RAIL / "ASAM-1.7.0_Ex_Railway-Station.xodr").read_text()
+    start = source.index("<station ")
+    head_end = source.index(">", start) + 1
+    end = source.index("</station>", start)
+    text = source[:head_end] + '<userData code="x" value="y"/>' + source[end:]
+    line = text[:start].count("\n") + 1
+    assert _official(text, tmp_path) == [(line, "ST001")]
+
+
+@needs_shared
+def test_keyref_errors_past_line_65535_are_taken_over(tmp_path: Path) -> None:
+    source = (CORPUS_RAIL / SWITCH_EXAMPLE).read_text()
+    padding = "<!-- padding -->\n" * 70_000
+    text = source.replace("<road ", padding + "<road ", 1).replace(
+        '<sideTrack id="2" s="0.0000000000000000e+00"', '<sideTrack id="77" s="0"'
+    )
+    found = _official(text, tmp_path)
+    assert [code for _, code in found if code != "SW002"] == ["SW004"]
+    assert all(line > 70_000 for line, _ in found)

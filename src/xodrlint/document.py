@@ -286,14 +286,25 @@ def _ascii_compatible(data: bytes) -> bytes:
 
 
 def _decode_wide(data: bytes) -> str:
-    for codec in ("utf-32", "utf-16") if data[:4].count(b"\x00") == 3 else ("utf-16",):
+    """UTF-16 or UTF-32 text; without a byte order mark, the zero bytes of '<' tell the
+    byte order ("<\\0" little-endian, "\\0<" big-endian), as libxml2 reads it."""
+    head = data[:4]
+    if head.count(b"\x00") == 3:
+        codecs: tuple[str, ...] = ("utf-32",) if head in _UTF32_BOMS else ()
+        codecs += ("utf-32-be",) if head[:1] == b"\x00" else ("utf-32-le",)
+    elif head[:2] in (b"\xff\xfe", b"\xfe\xff"):
+        codecs = ("utf-16",)
+    else:
+        codecs = ("utf-16-be",) if head[:1] == b"\x00" else ("utf-16-le",)
+    for codec in codecs:
         try:
             return data.decode(codec)
         except UnicodeDecodeError:
             continue
-    head = data[:4]
-    codec = "utf-16-be" if head[:1] == b"\x00" else "utf-16-le"
-    return data.decode(codec, errors="replace")
+    return data.decode(codecs[-1], errors="replace")
+
+
+_UTF32_BOMS: Final = (b"\xff\xfe\x00\x00", b"\x00\x00\xfe\xff")
 
 
 class _ReadableXPaths:

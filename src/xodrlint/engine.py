@@ -231,7 +231,8 @@ class Linter:
             xpath=xpath,
             related=related,
         )
-        return _Stamped(finding, meta.defers_to if hit.deferrable else (), hit.element)
+        defers_to = meta.defers_to if hit.defers_to is None else hit.defers_to
+        return _Stamped(finding, defers_to, hit.element)
 
 
 @dataclass(frozen=True, slots=True)

@@ -34,19 +34,21 @@ class Hit:
     """What a rule yields: the element a defect is about and a message.
 
     ``element`` is ``None`` only where no element exists (a file that does not parse); then
-    ``line`` carries the parser's line. ``deferrable`` says the hit may be withdrawn when
-    a rule its rule defers to (:attr:`RuleMeta.defers_to`) reports on the same element;
-    the schema stage clears it for errors no railroad rule reports better. ``related``
-    names other elements the message is about (the first of two duplicates): the engine
-    adds their lines to the message and to the finding.
+    ``line`` carries the parser's line. ``related`` names other elements the message is
+    about (the first of two duplicates): the engine adds their lines to the message and
+    to the finding. ``kind`` says what sort of schema error a schema-stage hit is
+    (``keyref``, ``duplicate``, ``missing_child``, ...). ``defers_to``, when set, replaces
+    the rule's :attr:`RuleMeta.defers_to` for this hit: the schema rule hands a keyref
+    error to SW004 but keeps every other error on the same element.
     """
 
     element: etree._Element | None
     message: str
     line: int | None = None
     column: int | None = None
-    deferrable: bool = True
     related: tuple[etree._Element, ...] = ()
+    kind: str = ""
+    defers_to: tuple[str, ...] | None = None
 
 
 @dataclass(frozen=True, slots=True)

@@ -19,7 +19,6 @@ from xodrlint.document import Document, parser_line
 from xodrlint.findings import Hit
 from xodrlint.schemas import SchemaFinder, SchemaLoadError, SchemaSet
 from xodrlint.xsd_messages import (
-    DEFERRABLE_KINDS,
     XS,
     Explained,
     TypeCatalog,
@@ -38,6 +37,10 @@ class SchemaCheck:
 
 class Validator(Protocol):
     def hits(self, doc: Document) -> Iterator[Hit]: ...
+
+
+#: libxml2's error log counts lines in 16 bits: later lines all read as this one.
+LIBXML2_LAST_LINE: Final = 65535
 
 
 class SchemaValidators:
@@ -173,7 +176,6 @@ class BuiltinRailroadValidator:
                     subtree,
                     f"'{subtree.tag}' does not exist in OpenDRIVE {doc.effective}; "
                     "railroad content starts with OpenDRIVE 1.4",
-                    deferrable=False,
                 )
             return
         schema = self._inner._schema
@@ -194,7 +196,7 @@ def errors_to_hits(
     explained: list[tuple[Explained, etree._Element | None, int]] = []
     for entry in log:
         why = explain_libxml2(entry.message, catalog, version)
-        element = locator.find(entry.path, why, entry.line)
+        element = locator.find(entry.path, why, entry.line, _key_fields(catalog, why))
         explained.append((why, element, entry.line))
     # A missing keyed attribute is one defect: libxml2 reports it twice (required, and
     # "not all fields of key ... evaluate to a node"); keep the first.
@@ -202,12 +204,18 @@ def errors_to_hits(
     for why, element, line in explained:
         if why.kind == "key_field" and element is not None and id(element) in missing:
             continue
-        yield Hit(
-            element,
-            why.message,
-            line=None if element is not None else line,
-            deferrable=why.kind in DEFERRABLE_KINDS,
-        )
+        yield Hit(element, why.message, line=None if element is not None else line, kind=why.kind)
+
+
+def _key_fields(catalog: TypeCatalog, why: Explained) -> tuple[str, ...] | None:
+    """The attributes a key or keyref compares, when each field is a plain ``@attr``."""
+    identity = catalog.identities.get(why.constraint or "")
+    if identity is None:
+        return None
+    paths = [field.get("xpath", "") for field in identity.iterfind(f"{{{XS}}}field")]
+    if not paths or not all(p.startswith("@") and p[1:].isidentifier() for p in paths):
+        return None
+    return tuple(p[1:] for p in paths)
 
 
 class _ElementLocator:
@@ -217,19 +225,37 @@ class _ElementLocator:
         self._root = validation_root
         self._by_tag_line: dict[tuple[str, int], list[etree._Element]] | None = None
 
-    def find(self, path: str | None, why: Explained, line: int) -> etree._Element | None:
+    def find(
+        self, path: str | None, why: Explained, line: int, fields: tuple[str, ...] | None = None
+    ) -> etree._Element | None:
         if path:
             found = self._by_path(path)
             if found is not None:
                 return found
         if why.element is None:
             return None
-        candidates = self._index().get((why.element, line), [])
+        candidates = self._candidates(why.element, line)
         for candidate in candidates:
-            values = set(candidate.attrib.values())
-            if all(value in values for value in why.key_values):
+            if fields is not None and len(fields) == len(why.key_values):
+                # compare the key's own attributes, in order: another attribute of a
+                # neighbour on the same line may well hold the same value
+                if tuple(candidate.get(name) for name in fields) == why.key_values:
+                    return candidate
+            elif all(value in set(candidate.attrib.values()) for value in why.key_values):
                 return candidate
         return candidates[0] if candidates else None
+
+    def _candidates(self, tag: str, line: int) -> list[etree._Element]:
+        if line < LIBXML2_LAST_LINE:
+            return self._index().get((tag, line), [])
+        # libxml2 reports every line past its 16-bit counter as 65535: any element of the
+        # tag from there on may be the one
+        return [
+            element
+            for (name, at), elements in self._index().items()
+            if name == tag and at >= LIBXML2_LAST_LINE - 1
+            for element in elements
+        ]
 
     def _by_path(self, path: str) -> etree._Element | None:
         # libxml2 paths start at the validation root: "/OpenDRIVE/road[1]/type" for a

@@ -62,13 +62,14 @@ class Xsd11Validator:
                     continue
             elif element is not None and _MISSING_ATTRIBUTE.match(reason):
                 missing.add(id(element))
+            # xmlschema words a missing child either way, depending on what else the
+            # parent holds; the kind is what lets ST001/ST002 take it over
+            missing_child = any(words in reason for words in _MISSING_CHILD)
             yield Hit(
                 element,
                 _message(element, reason),
                 line=None if element is not None else 1,
-                # a missing child (a station without platform) is what ST001/ST002 report;
-                # xmlschema words it either way, depending on what else the parent holds
-                deferrable=any(words in reason for words in _MISSING_CHILD),
+                kind="missing_child" if missing_child else "other",
             )
 
     def _identity_hits(
@@ -91,7 +92,10 @@ class Xsd11Validator:
                     continue
                 where = f"'{etree.QName(element).localname}'"
                 shown = quoted_list(list(values))
-                yield Hit(element, _identity_message(where, shown, constraint, duplicate))
+                kind = "duplicate" if duplicate else "keyref"
+                yield Hit(
+                    element, _identity_message(where, shown, constraint, duplicate), kind=kind
+                )
 
     def _constraints(self) -> Iterator[tuple[str, Any]]:
         for name, constraint in self._schema.identities.items():

@@ -187,7 +187,6 @@ _REWRITES: Final[tuple[tuple[re.Pattern[str], str], ...]] = (
 
 #: Message kinds about identity constraints or required children: the railroad rules
 #: (SW004, PT001, ST001, ...) report these better when they concern railroad elements.
-DEFERRABLE_KINDS: Final = frozenset({"keyref", "duplicate", "missing_child", "key_field"})
 
 
 @dataclass(frozen=True, slots=True)

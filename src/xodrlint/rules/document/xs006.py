@@ -25,9 +25,13 @@ Use instead:
 
 ## Related rules
 An XSD key, keyref or missing-child error about a railroad element is reported once, by
-the specific rule (SW004, SW007, SW008, PT001, ST001, ST002, ST003, ST007, ST009),
-not as XS006. A keyed attribute that is missing gives one XS006 (the missing attribute),
-not a second one for the key.
+the specific rule, not as XS006: a keyref on `mainTrack`/`sideTrack` by SW004, on
+`partner` by PT001, on `segment` by ST003; a duplicate key on `switch` by SW007 or
+SW008, on `station` by ST007, on `platform` by ST009; a station without a platform by
+ST001 and a platform without a segment by ST002 (also when the schema words it as an
+unexpected child of the station or platform). Only that error is handed over: any other
+schema error on the same element stays an XS006 finding. A keyed attribute that is
+missing gives one XS006 (the missing attribute), not a second one for the key.
 
 ## References
 - ASAM OpenDRIVE 1.7, section 2.5 "File structure" and the schema files; rule UID `asam.net:xodr:1.0.0:xml.valid_schema`
@@ -36,11 +40,28 @@ not a second one for the key.
 from __future__ import annotations
 
 from collections.abc import Iterator
+from dataclasses import replace
+from typing import Final
+
+from lxml import etree
 
 from xodrlint.findings import Hit, Severity
 from xodrlint.model import RailNetwork
 from xodrlint.rules import rule
-from xodrlint.rules.document._report import stage_hits
+
+#: Which railroad rule reports a schema identity error better, by kind and element.
+TAKEN_OVER_BY: Final = {
+    ("keyref", "mainTrack"): ("SW004",),
+    ("keyref", "sideTrack"): ("SW004",),
+    ("keyref", "partner"): ("PT001",),
+    ("keyref", "segment"): ("ST003",),
+    ("duplicate", "switch"): ("SW007", "SW008"),
+    ("duplicate", "station"): ("ST007",),
+    ("duplicate", "platform"): ("ST009",),
+}
+#: A container that lacks its first required child, and the rule that reports it.
+REQUIRED_CHILD: Final = {"station": ("platform", "ST001"), "platform": ("segment", "ST002")}
+CHILD_KINDS: Final = frozenset({"missing_child", "unexpected_element", "unexpected_element_bare"})
 
 
 @rule(
@@ -51,4 +72,26 @@ from xodrlint.rules.document._report import stage_hits
     defers_to=("SW004", "SW007", "SW008", "PT001", "ST001", "ST002", "ST003", "ST007", "ST009"),
 )
 def schema_violation(network: RailNetwork) -> Iterator[Hit]:
-    return stage_hits(network, "XS006")
+    for hit in network.problems.get("XS006", ()):
+        yield _handed_over(hit)
+
+
+def _handed_over(hit: Hit) -> Hit:
+    """The hit, told which rule (if any) reports its defect better: only that defect."""
+    element = hit.element
+    if element is None:
+        return replace(hit, defers_to=())
+    tag = etree.QName(element).localname
+    codes = TAKEN_OVER_BY.get((hit.kind, tag))
+    if codes is not None:
+        return replace(hit, defers_to=codes)
+    if hit.kind in CHILD_KINDS:
+        # libxml2 reports a station holding only userData on the userData; the defect
+        # is the station's missing platform, so the finding moves to the station
+        owner = element if tag in REQUIRED_CHILD else element.getparent()
+        owner_tag = etree.QName(owner).localname if owner is not None else ""
+        if owner is not None and owner_tag in REQUIRED_CHILD:
+            child, code = REQUIRED_CHILD[owner_tag]
+            if next(owner.iterchildren(child), None) is None:
+                return replace(hit, element=owner, defers_to=(code,))
+    return replace(hit, defers_to=())

@@ -3,7 +3,7 @@
 ## What it does
 Reports the `partner` of a switch whose side track road is the `sideTrack` of no other
 switch: a single switch, which has no partner. Silent when the switch the partner names
-has a side track without an id (it cannot be told apart from this one).
+has no side track, or one without an id: its road may well be this one.
 
 ## Why is this bad?
 Partner switches are two switches linked by one side track (a crossover). A switch whose

@@ -28,8 +28,9 @@ Use instead:
 
 ## Related rules
 This rule also takes over the schema's keyref error for the same reference (XS006 stays
-silent on it). With an unknown road, SW003, SW005, SW006 and SW009 cannot judge the track
-and stay silent.
+silent on it). With an unknown road, SW005, SW006 and SW009 cannot judge the track and
+stay silent; SW003 would also see a main track naming an unknown road (it differs from the
+parent road) and defers to SW004, since the one defect is the broken reference.
 
 ## References
 - ASAM OpenDRIVE 1.7, chapter "Railroads", section "Switches"; rule UID
