@@ -7,6 +7,7 @@ import os
 import shutil
 from pathlib import Path
 
+import pytest
 from typer.testing import CliRunner, Result
 
 from xodrlint.api import default_registry
@@ -84,3 +85,28 @@ def test_statistics_counts_per_rule() -> None:
         "     1  ST004  [error]   segment-s-out-of-range",
         "     1  SW006  [warning] side-track-not-at-end",
     ]
+
+
+class _Terminal:
+    def isatty(self) -> bool:
+        return True
+
+    def write(self, text: str) -> int:
+        return len(text)
+
+    def flush(self) -> None:
+        pass
+
+
+def test_progress_bar_only_on_a_terminal_and_for_many_files(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    import sys
+
+    from xodrlint.batch import MIN_FILES_FOR_PROGRESS, _Progress
+
+    assert _Progress(MIN_FILES_FOR_PROGRESS, enabled=True)._bar is None  # stderr is a pipe
+    monkeypatch.setattr(sys, "stderr", _Terminal())
+    assert _Progress(MIN_FILES_FOR_PROGRESS, enabled=True)._bar is not None
+    assert _Progress(MIN_FILES_FOR_PROGRESS - 1, enabled=True)._bar is None
+    assert _Progress(MIN_FILES_FOR_PROGRESS, enabled=False)._bar is None

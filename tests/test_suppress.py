@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import pytest
 from typer.testing import CliRunner, Result
 
 from xodrlint.api import default_registry
@@ -123,33 +124,31 @@ def run(*args: str | Path) -> Result:
     return CliRunner().invoke(app, [str(a) for a in args])
 
 
-def test_baseline_reports_only_new_findings(tmp_path: Path, monkeypatch: object) -> None:
-    import os
+def test_baseline_reports_only_new_findings(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    # the baseline's paths are relative to the working folder
+    maps = tmp_path / "maps"
+    maps.mkdir()
+    (maps / "a.xodr").write_bytes(BROKEN.read_bytes())
+    baseline = tmp_path / "baseline.json"
+    written = run("check", "maps", "--write-baseline", baseline)
+    assert written.exit_code == 0
+    assert "recorded 6 findings" in written.stderr
+    document = json.loads(baseline.read_text("utf-8"))
+    assert {e["path"] for e in document["findings"]} == {"maps/a.xodr"}
 
-    os.chdir(tmp_path)
-    try:
-        maps = tmp_path / "maps"
-        maps.mkdir()
-        (maps / "a.xodr").write_bytes(BROKEN.read_bytes())
-        baseline = tmp_path / "baseline.json"
-        written = run("check", "maps", "--write-baseline", baseline)
-        assert written.exit_code == 0
-        assert "recorded 6 findings" in written.stderr
-        document = json.loads(baseline.read_text("utf-8"))
-        assert {e["path"] for e in document["findings"]} == {"maps/a.xodr"}
-
-        assert run("check", "maps", "--baseline", baseline).exit_code == 0
-        # lines moved by an edit above do not matter; a new defect does
-        text = (maps / "a.xodr").read_text("utf-8")
-        text = text.replace("<OpenDRIVE>", "<OpenDRIVE>\n  <!-- a new comment -->\n", 1)
-        text = text.replace('<switch name="W1" id="101"', '<switch name="W1" id="103"')
-        (maps / "a.xodr").write_text(text, "utf-8")
-        result = run("check", "-f", "json", "maps", "--baseline", baseline)
-        findings = json.loads(result.stdout)["findings"]
-        assert [f["code"] for f in findings] == ["XS006", "PT002", "PT001"]
-        assert result.exit_code == 1
-    finally:
-        os.chdir(REPO)
+    assert run("check", "maps", "--baseline", baseline).exit_code == 0
+    # lines moved by an edit above do not matter; a new defect does
+    text = (maps / "a.xodr").read_text("utf-8")
+    text = text.replace("<OpenDRIVE>", "<OpenDRIVE>\n  <!-- a new comment -->\n", 1)
+    text = text.replace('<switch name="W1" id="101"', '<switch name="W1" id="103"')
+    (maps / "a.xodr").write_text(text, "utf-8")
+    result = run("check", "-f", "json", "maps", "--baseline", baseline)
+    findings = json.loads(result.stdout)["findings"]
+    assert [f["code"] for f in findings] == ["XS006", "PT002", "PT001"]
+    assert result.exit_code == 1
 
 
 def test_bad_baseline_is_exit_2(tmp_path: Path) -> None:
