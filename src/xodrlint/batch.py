@@ -13,15 +13,16 @@ import contextlib
 import os
 import sys
 from collections.abc import Callable, Sequence
-from concurrent.futures import Future, ProcessPoolExecutor, as_completed
-from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Final
+from typing import TYPE_CHECKING, Final
 
 from xodrlint.engine import ExternalIgnores, Linter, LintOptions
 from xodrlint.findings import FileReport
 from xodrlint.registry import load_registry
+
+if TYPE_CHECKING:
+    from concurrent.futures import Future
 
 #: Below this many files a pool costs more than it saves.
 MIN_FILES_FOR_WORKERS: Final = 4
@@ -40,17 +41,25 @@ class Task:
 
 LintTask = Callable[[Task], FileReport]
 
-# One linter per worker process, built by the pool's initializer: the schemas it compiles
-# are what makes a worker worth keeping between files. Only worker processes fill it.
+#: Tasks per message to a worker: few enough round trips, small enough to share out.
+CHUNKS_PER_WORKER: Final = 8
+
+# The linter workers use. Forked workers inherit the parent's (with every schema it has
+# compiled so far); spawned ones build their own in the pool's initializer.
 _WORKER: dict[str, Linter] = {}
 
 
 def _start_worker(options: LintOptions) -> None:
-    _WORKER["linter"] = Linter(load_registry(), options)
+    if "linter" not in _WORKER:
+        _WORKER["linter"] = Linter(load_registry(), options)
 
 
 def lint_in_worker(task: Task) -> FileReport:
     return _WORKER["linter"].lint_path(task.path, task.display, task.external)
+
+
+def _lint_chunk(worker: LintTask, chunk: Sequence[Task]) -> list[FileReport]:
+    return [worker(task) for task in chunk]
 
 
 def default_jobs() -> int:
@@ -73,9 +82,13 @@ def lint_tasks(
                 done.append(linter.lint_path(task.path, task.display, task.external))
                 bar.advance()
         return done
+    # Compile the first file's schema here, once: forked workers inherit it.
+    linter.warm_up(tasks[0].path)
+    _WORKER["linter"] = linter
     reports: dict[int, FileReport] = {}
-    pending = _run_pool(linter.options, tasks, range(len(tasks)), jobs, worker, reports, progress)
-    for index in pending:  # each file that broke a pool gets a worker of its own
+    everything = range(len(tasks))
+    pending = _run_pool(linter.options, tasks, everything, jobs, worker, reports, progress)
+    for index in pending:  # each file of a chunk that broke a pool gets a worker alone
         alone = _run_pool(linter.options, tasks, [index], 1, worker, reports, False)
         if alone:
             task = tasks[index]
@@ -95,17 +108,27 @@ def _run_pool(
     progress: bool,
 ) -> list[int]:
     """Lint ``indexes`` in a pool; the indexes whose worker died are returned."""
+    # imported here: a single-file run (a pre-commit hook) never starts a pool
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures.process import BrokenProcessPool
+
+    size = max(1, len(indexes) // (jobs * CHUNKS_PER_WORKER))
+    chunks = [list(indexes[i : i + size]) for i in range(0, len(indexes), size)]
+    methods = multiprocessing.get_all_start_methods()
+    context = multiprocessing.get_context("fork" if "fork" in methods else None)
     with ProcessPoolExecutor(
-        max_workers=jobs, initializer=_start_worker, initargs=(options,)
+        max_workers=jobs, mp_context=context, initializer=_start_worker, initargs=(options,)
     ) as pool:
-        futures: dict[Future[FileReport], int] = {
-            pool.submit(worker, tasks[index]): index for index in indexes
+        futures: dict[Future[list[FileReport]], list[int]] = {
+            pool.submit(_lint_chunk, worker, [tasks[i] for i in chunk]): chunk for chunk in chunks
         }
-        with _Progress(len(futures), enabled=progress) as bar:
+        with _Progress(len(indexes), enabled=progress) as bar:
             for future in as_completed(futures):
+                chunk = futures[future]
                 with contextlib.suppress(BrokenProcessPool):  # the caller retries those
-                    reports[futures[future]] = future.result()
-                bar.advance()
+                    reports.update(zip(chunk, future.result(), strict=True))
+                bar.advance(len(chunk))
     return [index for index in indexes if index not in reports]
 
 
@@ -130,6 +153,6 @@ class _Progress:
         if self._bar is not None:
             self._bar.stop()
 
-    def advance(self) -> None:
+    def advance(self, count: int = 1) -> None:
         if self._bar is not None:
-            self._bar.advance(self._task)
+            self._bar.advance(self._task, count)

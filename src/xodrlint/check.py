@@ -14,7 +14,7 @@ from typing import Final, TextIO
 
 from xodrlint import __version__
 from xodrlint.api import Input, collect_inputs, default_registry, exit_code
-from xodrlint.baseline import BaselineError, apply_baseline, baseline_document, load_baseline
+from xodrlint.baseline import BaselineError
 from xodrlint.batch import Task, default_jobs, lint_tasks
 from xodrlint.config import (
     COMMAND_LINE,
@@ -128,7 +128,11 @@ def run_check(request: CheckRequest) -> int:
         formatter = _formatter(settings.output_format, request)
         inputs = list(collect_inputs(request.paths, _excluder(settings)))
         _check_output_target(request.output, inputs)
-        recorded = load_baseline(request.baseline) if request.baseline else None
+        recorded = None
+        if request.baseline is not None:
+            from xodrlint.baseline import load_baseline
+
+            recorded = load_baseline(request.baseline)
     except (ConfigError, SelectorError, OptionError, UsageError, BaselineError) as error:
         error_line(str(error))
         return 2
@@ -139,6 +143,8 @@ def run_check(request: CheckRequest) -> int:
         return 2
     root = str(Path.cwd())
     if recorded is not None:
+        from xodrlint.baseline import apply_baseline
+
         reports = apply_baseline(reports, recorded, root, keep=request.show_suppressed)
     for report in reports:
         if report.error:
@@ -248,6 +254,8 @@ def run_notes(reports: list[FileReport]) -> tuple[str, ...]:
 
 
 def _write_baseline(path: Path, reports: list[FileReport], root: str) -> int:
+    from xodrlint.baseline import baseline_document
+
     document = baseline_document(reports, root)
     try:
         write_output(str(path), lambda stream: _dump(document, stream))

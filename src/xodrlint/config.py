@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import math
 import re
-import tomllib
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -57,6 +56,8 @@ def find_config(start: Path) -> ConfigFile | None:
 
 def read_config(path: Path, *, required: bool = True) -> ConfigFile | None:
     """Read one file; a ``pyproject.toml`` without ``[tool.xodrlint]`` gives ``None``."""
+    import tomllib  # only runs that find a config file pay for it
+
     try:
         document = tomllib.loads(path.read_text(encoding="utf-8"))
     except OSError as error:

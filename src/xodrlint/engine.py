@@ -8,7 +8,9 @@ one-defect-one-finding policy and sorts.
 
 from __future__ import annotations
 
+import contextlib
 import math
+import re
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -30,13 +32,18 @@ from xodrlint.model import build_network
 from xodrlint.registry import Registry
 from xodrlint.rules import Rule
 from xodrlint.schema import SchemaValidators
-from xodrlint.schemas import Origin, SchemaFinder
+from xodrlint.schemas import Origin, SchemaFinder, SchemaLoadError
 from xodrlint.suppress import Suppressions, read_directives, unused_findings
 
 SCHEMA_RULE: Final = "XS006"
 #: Findings of these rules mean the file is not an OpenDRIVE tree: nothing else runs.
 FATAL_CODES: Final = frozenset({"XS001", "XS002"})
 DOCUMENT_XPATH: Final = "/"
+WARM_UP_BYTES: Final = 4096
+_HEADER_VERSION: Final = re.compile(
+    rb"<header\b[^>]*?\brevMajor\s*=\s*[\"'](?P<major>\d+)[\"'][^>]*?"
+    rb"\brevMinor\s*=\s*[\"'](?P<minor>\d+)[\"']"
+)
 
 
 class SelectorError(ValueError):
@@ -129,6 +136,26 @@ class Linter:
         self._settings = resolve_rule_options(registry, self.options.rule_options)
         finder = SchemaFinder(option=self.options.schema, option_origin=self.options.schema_origin)
         self._validators = SchemaValidators(finder)
+
+    def warm_up(self, path: Path) -> None:
+        """Compile the schema ``path``'s header asks for, without linting it (so that
+        worker processes forked afterwards share the compiled schema)."""
+        if SCHEMA_RULE not in self._codes:
+            return
+        try:
+            with path.open("rb") as stream:
+                head = stream.read(WARM_UP_BYTES)
+        except OSError:
+            return
+        found = _HEADER_VERSION.search(head)
+        if found is None:
+            return
+        stub = b'<OpenDRIVE><header revMajor="%s" revMinor="%s"/></OpenDRIVE>' % (
+            found["major"],
+            found["minor"],
+        )
+        with contextlib.suppress(SchemaLoadError):
+            self._validators.check(load_bytes(stub, "warm-up"))
 
     def lint_path(
         self, path: Path, display: str | None = None, external: ExternalIgnores = ()

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import hashlib
 import os
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
@@ -118,6 +117,8 @@ def fingerprints(findings: Iterable[Finding], root: str) -> list[str]:
     their rank among them, so every fingerprint of a run is unique. SARIF
     ``partialFingerprints``, GitLab's ``fingerprint`` and the baseline all use these.
     """
+    import hashlib  # only reports that need fingerprints pay for it
+
     seen: dict[str, int] = {}
     result = []
     for finding in findings:

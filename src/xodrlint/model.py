@@ -9,7 +9,6 @@ rules stay silent on it (the schema stage reports the value itself).
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
@@ -27,8 +26,8 @@ NON_TRAFFIC_LANE_TYPES: Final = frozenset(
     {"none", "border", "shoulder", "curb", "sidewalk", "walking", "median"}
 )
 
-# xs:double's lexical space; Python's float() also takes "1_0", "infinity" and spaces.
-_XSD_DOUBLE: Final = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?")
+#: Roads with a rail or tram lane in any lane section, found by libxml2 in one pass.
+_RAIL_ROADS: Final = etree.XPath("road[lanes/laneSection/*/lane[@type='rail' or @type='tram']]")
 
 
 def number(element: etree._Element, attribute: str) -> float | None:
@@ -36,11 +35,15 @@ def number(element: etree._Element, attribute: str) -> float | None:
     raw = element.get(attribute)
     if raw is None:
         return None
-    text = raw.strip()
-    if not _XSD_DOUBLE.fullmatch(text):
+    try:
+        value = float(raw)
+    except ValueError:
         return None
-    value = float(text)
-    return value if math.isfinite(value) else None
+    # float() also takes "1_0", "infinity", "nan" and non-ASCII digits; xs:double does not
+    # (and a value too big for a double is no length or position we can use)
+    if not math.isfinite(value) or "_" in raw or not raw.isascii():
+        return None
+    return value
 
 
 def integer(element: etree._Element, attribute: str) -> int | None:
@@ -100,24 +103,60 @@ class LaneSection:
 
 
 @dataclass(frozen=True, slots=True)
+class RoadLanes:
+    """A road's ``lanes`` element, read: its lane sections and its lane offset."""
+
+    sections: tuple[LaneSection, ...]
+    offsets: tuple[Cubic, ...]
+    offsets_complete: bool
+    """Every ``laneOffset`` entry was readable: ``offsets`` is the road's offset."""
+
+
 class Road:
-    element: etree._Element
-    id: str | None
-    length: float | None
-    lane_sections: tuple[LaneSection, ...]
-    lane_offsets: tuple[Cubic, ...]
-    lane_offsets_complete: bool = True
-    """Every ``laneOffset`` entry was readable: ``lane_offsets`` is the road's offset."""
+    """A road: id and length at once; its lanes are read on first use.
+
+    Most roads of a city map carry no rail lane, and the rail rules never look at their
+    lanes: reading them lazily keeps the model a fraction of the parse.
+    ``has_rail_lane`` is known up front (one XPath over the whole tree finds those roads).
+    """
+
+    __slots__ = ("_lanes", "element", "has_rail_lane", "id", "length")
+
+    def __init__(
+        self, element: etree._Element, id: str | None, length: float | None, has_rail_lane: bool
+    ) -> None:
+        self.element = element
+        self.id = id
+        self.length = length
+        self.has_rail_lane = has_rail_lane
+        self._lanes: RoadLanes | None = None
+
+    def __repr__(self) -> str:
+        return f"Road(id={self.id!r}, length={self.length!r})"
+
+    @property
+    def lanes(self) -> RoadLanes:
+        if self._lanes is None:
+            self._lanes = _read_lanes(self.element)
+        return self._lanes
+
+    @property
+    def lane_sections(self) -> tuple[LaneSection, ...]:
+        return self.lanes.sections
+
+    @property
+    def lane_offsets(self) -> tuple[Cubic, ...]:
+        return self.lanes.offsets
+
+    @property
+    def lane_offsets_complete(self) -> bool:
+        return self.lanes.offsets_complete
 
     @property
     def lane_types(self) -> frozenset[str]:
         return frozenset(
             lane.type for section in self.lane_sections for lane in section.lanes if lane.type
         )
-
-    @property
-    def has_rail_lane(self) -> bool:
-        return not self.lane_types.isdisjoint(RAIL_LANE_TYPES)
 
     def section_ranges(self) -> Iterator[tuple[LaneSection, float, float]]:
         """Each lane section with the s range it covers, where both ends are known.
@@ -247,6 +286,11 @@ class RailNetwork:
     """Switches in document order, by the road their ``mainTrack`` names."""
 
     @property
+    def rail_roads(self) -> Iterable[Road]:
+        """Roads with a rail or tram lane: the only ones the lane rules read lanes of."""
+        return (road for road in self.roads if road.has_rail_lane)
+
+    @property
     def platforms(self) -> Iterable[Platform]:
         return (platform for station in self.stations for platform in station.platforms)
 
@@ -265,9 +309,11 @@ def build_network(
     roads: list[Road] = []
     switches: list[Switch] = []
     stations: list[Station] = []
+    found = _RAIL_ROADS(root)
+    rail_roads = set(found) if isinstance(found, list) else set()
     for child in root.iterchildren("road", "station"):
         if child.tag == "road":
-            road = _read_road(child)
+            road = Road(child, child.get("id"), number(child, "length"), child in rail_roads)
             roads.append(road)
             switches.extend(_read_switches(child, road))
         else:
@@ -275,25 +321,18 @@ def build_network(
     return RailNetwork(tuple(roads), tuple(switches), tuple(stations), frozen_problems)
 
 
-def _read_road(element: etree._Element) -> Road:
+def _read_lanes(road: etree._Element) -> RoadLanes:
     sections: list[LaneSection] = []
     offsets: list[Cubic] = []
     offset_entries = 0
-    for lanes in element.iterchildren("lanes"):
+    for lanes in road.iterchildren("lanes"):
         entries = list(lanes.iterchildren("laneOffset"))
         offset_entries += len(entries)
         offsets.extend(_cubics(entries, "s"))
         sections.extend(
             _read_lane_section(section) for section in lanes.iterchildren("laneSection")
         )
-    return Road(
-        element=element,
-        id=element.get("id"),
-        length=number(element, "length"),
-        lane_sections=tuple(sections),
-        lane_offsets=tuple(offsets),
-        lane_offsets_complete=len(offsets) == offset_entries,
-    )
+    return RoadLanes(tuple(sections), tuple(offsets), len(offsets) == offset_entries)
 
 
 def _read_lane_section(element: etree._Element) -> LaneSection:

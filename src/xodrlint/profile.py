@@ -106,6 +106,9 @@ def extremes(terms: Sequence[tuple[float, Piecewise]], start: float, end: float)
     if start > end + S_TOLERANCE:
         return None
     end = max(start, end)
+    constant = _constant_sum(terms, start)
+    if constant is not None:  # most lanes: one constant width, one constant offset
+        return Extremes(constant, start, constant, start) if math.isfinite(constant) else None
     breaks = sorted(
         {b for _, fn in terms for b in fn.starts if start + S_TOLERANCE < b < end - S_TOLERANCE}
     )
@@ -132,6 +135,22 @@ def extremes(terms: Sequence[tuple[float, Piecewise]], start: float, end: float)
             elif value > found.high:
                 found = Extremes(found.low, found.s_low, value, s)
     return found
+
+
+def _constant_sum(terms: Sequence[tuple[float, Piecewise]], start: float) -> float | None:
+    """``Σ weight·function`` when every function is one constant over the range."""
+    total = 0.0
+    for weight, fn in terms:
+        pieces = fn.pieces
+        if not pieces and fn.zero_before:
+            continue
+        if len(pieces) != 1 or pieces[0].base > start + S_TOLERANCE:
+            return None
+        piece = pieces[0]
+        if piece.b != 0 or piece.c != 0 or piece.d != 0:
+            return None
+        total += weight * piece.a
+    return total
 
 
 def _candidates(poly: Poly, start: float, end: float) -> Iterator[float]:

@@ -8,10 +8,12 @@ Formatters see findings and rule metadata only, never rules or the engine.
 from __future__ import annotations
 
 import importlib
-from importlib.metadata import entry_points
-from typing import Final, Protocol, TextIO
+from typing import TYPE_CHECKING, Final, Protocol, TextIO
 
 from xodrlint.findings import RunResult
+
+if TYPE_CHECKING:
+    from importlib.metadata import EntryPoint
 
 ENTRY_POINT_GROUP: Final = "xodrlint.formatters"
 
@@ -36,9 +38,16 @@ class FormatterOptions(Protocol):
     quiet: bool
 
 
+def _entry_points() -> list[EntryPoint]:
+    # importlib.metadata costs a start-up; a built-in format never needs it
+    from importlib.metadata import entry_points
+
+    return list(entry_points(group=ENTRY_POINT_GROUP))
+
+
 def available() -> list[str]:
     names = set(BUILTIN)
-    names.update(point.name for point in entry_points(group=ENTRY_POINT_GROUP))
+    names.update(point.name for point in _entry_points())
     return sorted(names)
 
 
@@ -46,7 +55,7 @@ def get_formatter(name: str, *, show_source: bool = False, quiet: bool = False) 
     """An instance of the formatter ``name``; ``KeyError`` if there is none."""
     target = BUILTIN.get(name)
     if target is None:
-        matches = [p for p in entry_points(group=ENTRY_POINT_GROUP) if p.name == name]
+        matches = [p for p in _entry_points() if p.name == name]
         if not matches:
             raise KeyError(name)
         factory = matches[0].load()

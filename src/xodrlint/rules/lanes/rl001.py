@@ -59,7 +59,7 @@ from xodrlint.rules._shared import metres, quoted
     severity=Severity.ERROR,
 )
 def more_than_one_rail_lane(network: RailNetwork) -> Iterator[Hit]:
-    for road in network.roads:
+    for road in network.rail_roads:
         for section in road.lane_sections:
             rails = section.rail_lanes
             if len(rails) > 1:

@@ -97,7 +97,7 @@ def _is_track_road(road: Road) -> bool:
 )
 def refline_not_centered(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
     tolerance = settings[TOLERANCE.name]
-    for road in network.roads:
+    for road in network.rail_roads:
         if not _is_track_road(road):
             continue
         for section, start, end in road.section_ranges():

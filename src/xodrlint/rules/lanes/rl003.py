@@ -75,7 +75,7 @@ MIN_WIDTH: Final = RuleOption(
 )
 def rail_lane_too_narrow(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
     minimum = settings[MIN_WIDTH.name]
-    for road in network.roads:
+    for road in network.rail_roads:
         for section, start, end in road.section_ranges():
             for lane in section.rail_lanes:
                 width = lane_width(lane, start)

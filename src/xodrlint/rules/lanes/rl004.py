@@ -64,9 +64,7 @@ from xodrlint.rules.lanes._labels import lane_label
     severity=Severity.WARNING,
 )
 def rail_road_shared(network: RailNetwork) -> Iterator[Hit]:
-    for road in network.roads:
-        if not road.has_rail_lane:
-            continue
+    for road in network.rail_roads:
         for section in road.lane_sections:
             traffic = [
                 lane
