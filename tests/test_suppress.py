@@ -174,3 +174,11 @@ def test_the_documented_example_is_the_shipped_one_and_withholds_three_findings(
         ("SW006", "W2 is replaced in ticket 4711"),
         ("XS006", "W2 is replaced in ticket 4711"),
     ]
+
+
+def test_suppressions_work_in_utf16_files(tmp_path: Path) -> None:
+    text = (REPO / "examples" / "suppressed.xodr").read_text("utf-8")
+    text = text.replace('encoding="UTF-8"', 'encoding="UTF-16"')
+    path = tmp_path / "wide.xodr"
+    path.write_bytes(text.encode("utf-16"))
+    assert [c for c, _ in _lint(path)] == ["XS006", "ST004", "XS006"]

@@ -33,7 +33,12 @@ from xodrlint.registry import Registry
 from xodrlint.rules import Rule
 from xodrlint.schema import SchemaValidators
 from xodrlint.schemas import Origin, SchemaFinder, SchemaLoadError
-from xodrlint.suppress import Suppressions, read_directives, unused_findings
+from xodrlint.suppress import (
+    Suppressions,
+    may_hold_directives,
+    read_directives,
+    unused_findings,
+)
 
 SCHEMA_RULE: Final = "XS006"
 #: Findings of these rules mean the file is not an OpenDRIVE tree: nothing else runs.
@@ -211,7 +216,9 @@ class Linter:
     def _apply_suppressions(
         self, doc: Document, stamped: list[_Stamped], external: ExternalIgnores
     ) -> tuple[list[Finding], list[Suppressed]]:
-        suppressions = Suppressions(read_directives(doc.root), self._selector_matches)
+        # a map without the word has no suppression comment: skip walking its comments
+        directives = read_directives(doc.root) if may_hold_directives(doc.data) else []
+        suppressions = Suppressions(directives, self._selector_matches)
         kept: list[Finding] = []
         withheld: list[Suppressed] = []
         for item in stamped:

@@ -3,7 +3,9 @@
 Only the subtrees railroad rules care about are visited (``road/lanes``,
 ``road/railroad``, ``station``), so building the model costs a fraction of parsing.
 Attributes are read leniently: a missing or malformed value becomes ``None`` and the
-rules stay silent on it (the schema stage reports the value itself).
+rules stay silent on it (the schema stage reports the value itself). The values are named
+tuples: as immutable as frozen dataclasses, and several times faster to create, which
+counts when a city map makes tens of thousands of them.
 """
 
 from __future__ import annotations
@@ -12,7 +14,7 @@ import math
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import Final, TypeVar
+from typing import Final, NamedTuple, TypeVar
 
 from lxml import etree
 
@@ -32,7 +34,10 @@ _RAIL_ROADS: Final = etree.XPath("road[lanes/laneSection/*/lane[@type='rail' or 
 
 def number(element: etree._Element, attribute: str) -> float | None:
     """The finite number in ``attribute``, or ``None`` if absent or not a finite xs:double."""
-    raw = element.get(attribute)
+    return _double(element.get(attribute))
+
+
+def _double(raw: str | None) -> float | None:
     if raw is None:
         return None
     try:
@@ -58,8 +63,7 @@ def integer(element: etree._Element, attribute: str) -> int | None:
     return int(text)
 
 
-@dataclass(frozen=True, slots=True)
-class Cubic:
+class Cubic(NamedTuple):
     """``a + b·ds + c·ds² + d·ds³`` from ``start`` on (a ``laneOffset`` or lane ``width``)."""
 
     element: etree._Element
@@ -74,8 +78,7 @@ class Cubic:
         return self.a + ds * (self.b + ds * (self.c + ds * self.d))
 
 
-@dataclass(frozen=True, slots=True)
-class Lane:
+class Lane(NamedTuple):
     element: etree._Element
     id: int | None
     side: str  # "left", "center" or "right"
@@ -91,8 +94,7 @@ class Lane:
         return self.type in RAIL_LANE_TYPES
 
 
-@dataclass(frozen=True, slots=True)
-class LaneSection:
+class LaneSection(NamedTuple):
     element: etree._Element
     s: float | None
     lanes: tuple[Lane, ...]
@@ -102,8 +104,7 @@ class LaneSection:
         return tuple(lane for lane in self.lanes if lane.is_rail)
 
 
-@dataclass(frozen=True, slots=True)
-class RoadLanes:
+class RoadLanes(NamedTuple):
     """A road's ``lanes`` element, read: its lane sections and its lane offset."""
 
     sections: tuple[LaneSection, ...]
@@ -171,8 +172,7 @@ class Road:
                 yield section, section.s, following
 
 
-@dataclass(frozen=True, slots=True)
-class TrackRef:
+class TrackRef(NamedTuple):
     """A ``mainTrack`` or ``sideTrack``: a road, a position on it and a direction."""
 
     element: etree._Element
@@ -181,15 +181,13 @@ class TrackRef:
     dir: str | None
 
 
-@dataclass(frozen=True, slots=True)
-class PartnerRef:
+class PartnerRef(NamedTuple):
     element: etree._Element
     id: str | None
     name: str | None
 
 
-@dataclass(frozen=True, slots=True)
-class Switch:
+class Switch(NamedTuple):
     element: etree._Element
     id: str | None
     name: str | None
@@ -201,8 +199,7 @@ class Switch:
     partner: PartnerRef | None
 
 
-@dataclass(frozen=True, slots=True)
-class Segment:
+class Segment(NamedTuple):
     element: etree._Element
     road_id: str | None
     s_start: float | None
@@ -210,16 +207,14 @@ class Segment:
     side: str | None
 
 
-@dataclass(frozen=True, slots=True)
-class Platform:
+class Platform(NamedTuple):
     element: etree._Element
     id: str | None
     name: str | None
     segments: tuple[Segment, ...]
 
 
-@dataclass(frozen=True, slots=True)
-class Station:
+class Station(NamedTuple):
     element: etree._Element
     id: str | None
     name: str | None
@@ -324,48 +319,47 @@ def build_network(
 def _read_lanes(road: etree._Element) -> RoadLanes:
     sections: list[LaneSection] = []
     offsets: list[Cubic] = []
-    offset_entries = 0
+    complete = True
     for lanes in road.iterchildren("lanes"):
-        entries = list(lanes.iterchildren("laneOffset"))
-        offset_entries += len(entries)
-        offsets.extend(_cubics(entries, "s"))
-        sections.extend(
-            _read_lane_section(section) for section in lanes.iterchildren("laneSection")
-        )
-    return RoadLanes(tuple(sections), tuple(offsets), len(offsets) == offset_entries)
+        for child in lanes.iterchildren("laneOffset", "laneSection"):
+            if child.tag == "laneSection":
+                sections.append(_read_lane_section(child))
+                continue
+            cubic = _cubic(child, "s")
+            if cubic is None:
+                complete = False
+            else:
+                offsets.append(cubic)
+    return RoadLanes(tuple(sections), tuple(offsets), complete)
 
 
 def _read_lane_section(element: etree._Element) -> LaneSection:
-    lanes = [
-        _read_lane(lane, side.tag)
-        for side in element.iterchildren("left", "center", "right")
-        for lane in side.iterchildren("lane")
-    ]
-    return LaneSection(element=element, s=number(element, "s"), lanes=tuple(lanes))
+    lanes: list[Lane] = []
+    for side in element.iterchildren("left", "center", "right"):
+        tag = side.tag
+        lanes.extend(_read_lane(lane, tag) for lane in side.iterchildren("lane"))
+    return LaneSection(element, number(element, "s"), tuple(lanes))
 
 
 def _read_lane(element: etree._Element, side: str) -> Lane:
-    entries = list(element.iterchildren("width"))
-    widths = _cubics(entries, "sOffset")
-    return Lane(
-        element=element,
-        id=integer(element, "id"),
-        side=side,
-        type=element.get("type"),
-        widths=widths,
-        widths_complete=len(widths) == len(entries),
-    )
+    widths: list[Cubic] = []
+    complete = True
+    for entry in element.iterchildren("width"):
+        cubic = _cubic(entry, "sOffset")
+        if cubic is None:
+            complete = False
+        else:
+            widths.append(cubic)
+    return Lane(element, integer(element, "id"), side, element.get("type"), tuple(widths), complete)
 
 
-def _cubics(entries: Iterable[etree._Element], start_attribute: str) -> tuple[Cubic, ...]:
-    cubics: list[Cubic] = []
-    for entry in entries:
-        values = [number(entry, name) for name in (start_attribute, "a", "b", "c", "d")]
-        start, a, b, c, d = values
-        if start is None or a is None or b is None or c is None or d is None:
-            continue
-        cubics.append(Cubic(entry, start, a, b, c, d))
-    return tuple(cubics)
+def _cubic(entry: etree._Element, start_attribute: str) -> Cubic | None:
+    """A ``laneOffset`` or ``width`` entry, ``None`` when a value is unreadable."""
+    get = entry.get
+    start, a, b, c, d = (_double(get(name)) for name in (start_attribute, "a", "b", "c", "d"))
+    if start is None or a is None or b is None or c is None or d is None:
+        return None
+    return Cubic(entry, start, a, b, c, d)
 
 
 def _read_switches(road_element: etree._Element, road: Road) -> list[Switch]:

@@ -24,6 +24,18 @@ DIRECTIVE: Final = re.compile(
     re.DOTALL,
 )
 FILE_SCOPE: Final = "ignore-file"
+#: Every directive holds this word, in whatever encoding the file is in.
+_MARKERS: Final = tuple(
+    "xodrlint".encode(codec)
+    for codec in ("utf-8", "utf-16-le", "utf-16-be", "utf-32-le", "utf-32-be")
+)
+
+
+def may_hold_directives(data: bytes) -> bool:
+    """False when the file cannot hold a suppression comment (most files): a byte search
+    is far cheaper than walking every comment of a large map."""
+    return any(marker in data for marker in _MARKERS)
+
 
 #: Whether a selector (code, prefix, name or UID) names a rule code.
 Matcher = Callable[[str, str], bool]

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import ast
 import re
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import Any, Final
 
@@ -46,11 +46,19 @@ class Xsd11Validator:
         except (xmlschema.XMLSchemaException, OSError) as error:
             raise SchemaLoadError(f"cannot compile schema {entry}: {error}") from error
 
+    @property
+    def schema(self) -> Any:
+        """The compiled ``xmlschema.XMLSchema11`` (the fast path reads its components)."""
+        return self._schema
+
     def hits(self, doc: Document) -> Iterator[Hit]:
         assert doc.tree is not None
-        root = doc.tree.getroot()
+        yield from self.error_hits(doc.tree.getroot(), self._schema.iter_errors(doc.tree))
+
+    def error_hits(self, root: etree._Element, errors: Iterable[Any]) -> Iterator[Hit]:
+        """One hit per xmlschema validation error (``root`` is the document's root)."""
         missing: set[int] = set()
-        for error in self._schema.iter_errors(doc.tree):
+        for error in errors:
             element = error.elem if isinstance(error.elem, etree._Element) else None
             reason = str(error.reason or error.message)
             identity = _KEY_NOT_FOUND.search(reason) or _DUPLICATE.search(reason)

@@ -170,6 +170,14 @@ _REWRITES: Final[tuple[tuple[re.Pattern[str], str], ...]] = (
         "bound",
     ),
     (
+        # libxml2 words the exclusive bounds differently from the inclusive ones
+        re.compile(
+            r"^\[facet '(?P<f>min|max)(?P<kind>Exclusive)'\] The value '(?P<v>.*)'"
+            r" must be (?:greater|less) than '(?P<lim>.*)'\.?$"
+        ),
+        "bound",
+    ),
+    (
         re.compile(
             r"^\[facet 'pattern'\] The value '(?P<v>.*)' is not accepted by the pattern"
             r" '(?P<p>.*)'\.?$"
@@ -184,6 +192,8 @@ _REWRITES: Final[tuple[tuple[re.Pattern[str], str], ...]] = (
         "fixed",
     ),
 )
+
+_ABSTRACT: Final = re.compile(r"^The type definition is abstract\.?$")
 
 #: Message kinds about identity constraints or required children: the railroad rules
 #: (SW004, PT001, ST001, ...) report these better when they concern railroad elements.
@@ -218,6 +228,10 @@ def explain_libxml2(raw: str, catalog: TypeCatalog, version: str | None) -> Expl
             _key_values(fields.get("v", "")) if kind in ("keyref", "duplicate") else (),
             fields.get("k"),
         )
+    if _ABSTRACT.match(body):
+        # the element's declared type is abstract and nothing chose a concrete one; libxml2
+        # skips the element's content then (the XSD 1.1 fast path checks it another way)
+        return Explained(f"{where}: {sentence(body)}", "abstract", element)
     if "evaluate to a node" in body:
         return Explained(f"{where}: {sentence(body)}", "key_field", element)
     return Explained(f"{where}: {sentence(body)}", "other", element)
