@@ -24,6 +24,7 @@ def isolated_schemas(
     """No test sees the developer's schemas: empty user data folder, no schema path."""
     data = tmp_path_factory.mktemp("xodrlint-data")
     monkeypatch.setenv("XODRLINT_DATA_DIR", str(data))
+    monkeypatch.setenv("XODRLINT_CACHE_DIR", str(tmp_path_factory.mktemp("xodrlint-cache")))
     monkeypatch.delenv("XODRLINT_SCHEMA_PATH", raising=False)
     monkeypatch.delenv("XODRLINT_DEBUG", raising=False)
     yield data

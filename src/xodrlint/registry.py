@@ -8,14 +8,26 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
-from importlib.metadata import EntryPoint, entry_points
 from types import ModuleType
-from typing import Final
+from typing import Final, Protocol
 
 from xodrlint.findings import RuleMeta
+from xodrlint.plugins import installed
 from xodrlint.rules import Rule, collect
 
 ENTRY_POINT_GROUP: Final = "xodrlint.rules"
+
+
+class _Point(Protocol):
+    """What a rule pack's entry point offers: an ``EntryPoint`` or a cached ``Plugin``."""
+
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def value(self) -> str: ...
+
+    def load(self) -> object: ...
 
 
 @dataclass(frozen=True)
@@ -41,9 +53,9 @@ class Registry:
         return None
 
 
-def load_registry(points: Iterable[EntryPoint] | None = None) -> Registry:
+def load_registry(points: Iterable[_Point] | None = None) -> Registry:
     if points is None:
-        points = entry_points(group=ENTRY_POINT_GROUP)
+        points = installed(ENTRY_POINT_GROUP)
     rules: dict[str, Rule] = {}
     warnings: list[str] = []
     for point in sorted(points, key=lambda p: (p.value.startswith("xodrlint.") is False, p.name)):

@@ -8,12 +8,12 @@ Formatters see findings and rule metadata only, never rules or the engine.
 from __future__ import annotations
 
 import importlib
-from typing import TYPE_CHECKING, Final, Protocol, TextIO
+from typing import TYPE_CHECKING, Any, Final, Protocol, TextIO
 
 from xodrlint.findings import RunResult
 
 if TYPE_CHECKING:
-    from importlib.metadata import EntryPoint
+    from xodrlint.plugins import Plugin
 
 ENTRY_POINT_GROUP: Final = "xodrlint.formatters"
 
@@ -38,11 +38,11 @@ class FormatterOptions(Protocol):
     quiet: bool
 
 
-def _entry_points() -> list[EntryPoint]:
-    # importlib.metadata costs a start-up; a built-in format never needs it
-    from importlib.metadata import entry_points
+def _entry_points() -> list[Plugin]:
+    # the scan costs a start-up (and is cached); a built-in format never needs it
+    from xodrlint.plugins import installed
 
-    return list(entry_points(group=ENTRY_POINT_GROUP))
+    return installed(ENTRY_POINT_GROUP)
 
 
 def available() -> list[str]:
@@ -58,7 +58,7 @@ def get_formatter(name: str, *, show_source: bool = False, quiet: bool = False) 
         matches = [p for p in _entry_points() if p.name == name]
         if not matches:
             raise KeyError(name)
-        factory = matches[0].load()
+        factory: Any = matches[0].load()
     else:
         module_name, _, attribute = target.partition(":")
         factory = getattr(importlib.import_module(module_name), attribute)

@@ -1,0 +1,92 @@
+"""Installed plugins (rule packs, formatters), found through entry points, cached.
+
+Importing ``importlib.metadata`` and scanning every installed distribution costs about
+40 ms, a fifth of a pre-commit run on a small map. The entry points of xodrlint's groups
+are therefore kept in the user cache folder, keyed by the modification times of the
+folders on ``sys.path``: installing or removing a package changes its folder, so the
+next run scans again. Without a usable cache folder every run scans.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import importlib
+import json
+import os
+import sys
+import tempfile
+from pathlib import Path
+from typing import Final, NamedTuple
+
+GROUPS: Final = ("xodrlint.rules", "xodrlint.formatters")
+CACHE_ENV: Final = "XODRLINT_CACHE_DIR"
+CACHE_NAME: Final = "entry-points.json"
+FORMAT: Final = 1
+
+
+class Plugin(NamedTuple):
+    """An entry point, as much of it as xodrlint uses: its name, target and ``load``."""
+
+    name: str
+    value: str
+    group: str
+
+    def load(self) -> object:
+        module, _, attribute = self.value.partition(":")
+        loaded: object = importlib.import_module(module.strip())
+        for part in attribute.strip().split(".") if attribute.strip() else ():
+            loaded = getattr(loaded, part)
+        return loaded
+
+
+def cache_dir() -> Path:
+    """The user cache folder (``XODRLINT_CACHE_DIR`` overrides it)."""
+    override = os.environ.get(CACHE_ENV)
+    if override:
+        return Path(override)
+    from platformdirs import user_cache_path
+
+    return user_cache_path("xodrlint")
+
+
+def installed(group: str) -> list[Plugin]:
+    """The entry points of ``group`` that installed distributions declare."""
+    key = _environment_key()
+    path = cache_dir() / CACHE_NAME
+    with contextlib.suppress(OSError, ValueError, TypeError, KeyError):
+        cached = json.loads(path.read_text(encoding="utf-8"))
+        if cached["format"] == FORMAT and cached["key"] == key:
+            return [Plugin(name, value, group) for name, value in cached["groups"][group]]
+    groups = _scan()
+    _store(path, {"format": FORMAT, "key": key, "groups": groups})
+    return [Plugin(name, value, group) for name, value in groups.get(group, [])]
+
+
+def _environment_key() -> list[list[object]]:
+    key: list[list[object]] = [[sys.executable, sys.version]]
+    for entry in sys.path:
+        with contextlib.suppress(OSError):
+            key.append([entry, Path(entry or ".").stat().st_mtime_ns])
+    return key
+
+
+def _scan() -> dict[str, list[list[str]]]:
+    from importlib.metadata import entry_points
+
+    return {
+        group: sorted([point.name, point.value] for point in entry_points(group=group))
+        for group in GROUPS
+    }
+
+
+def _store(path: Path, document: dict[str, object]) -> None:
+    """Write the cache whole, or not at all (a read-only home is no error)."""
+    with contextlib.suppress(OSError):
+        path.parent.mkdir(parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(prefix=".entry-points.", dir=path.parent)
+        try:
+            with os.fdopen(handle, "w", encoding="utf-8") as stream:
+                json.dump(document, stream)
+            Path(temporary).replace(path)
+        except OSError:
+            Path(temporary).unlink(missing_ok=True)

@@ -1,0 +1,60 @@
+"""The entry-point cache: used when the environment is unchanged, rebuilt when it is not."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from xodrlint import plugins
+
+
+def test_cache_is_written_then_used(tmp_path: Path) -> None:
+    first = plugins.installed("xodrlint.rules")
+    assert {p.name for p in first} >= {"document", "switches", "partners", "stations", "lanes"}
+    cached = json.loads((plugins.cache_dir() / plugins.CACHE_NAME).read_text("utf-8"))
+    assert cached["groups"]["xodrlint.rules"]
+    # a process like the last one reads the cache and never imports importlib.metadata
+    # (pytest's own sys.path differs from a plain interpreter's: run two of those)
+    code = (
+        "import sys; from xodrlint.plugins import installed; "
+        "points = installed('xodrlint.rules'); "
+        "print(len(points), 'importlib.metadata' in sys.modules)"
+    )
+    runs = [
+        subprocess.run(
+            [sys.executable, "-c", code], capture_output=True, text=True, check=True, env=os.environ
+        ).stdout.split()
+        for _ in range(2)
+    ]
+    assert runs == [[str(len(first)), "True"], [str(len(first)), "False"]]
+
+
+def test_a_changed_environment_is_scanned_again(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    plugins.installed("xodrlint.rules")
+    path = plugins.cache_dir() / plugins.CACHE_NAME
+    stale = json.loads(path.read_text("utf-8"))
+    stale["groups"]["xodrlint.rules"] = [["ghost", "nowhere:nothing"]]
+    path.write_text(json.dumps(stale), "utf-8")
+    assert [p.name for p in plugins.installed("xodrlint.rules")] == ["ghost"]  # trusted
+    extra = tmp_path / "site"
+    extra.mkdir()
+    monkeypatch.syspath_prepend(str(extra))  # as installing a package would change a folder
+    assert "ghost" not in [p.name for p in plugins.installed("xodrlint.rules")]
+
+
+def test_an_unwritable_cache_folder_is_no_error(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv(plugins.CACHE_ENV, "/proc/no-such-place")
+    assert plugins.installed("xodrlint.rules")
+
+
+def test_plugin_load_resolves_module_and_attribute() -> None:
+    loaded = plugins.Plugin("x", "xodrlint.plugins:Plugin.load", "g").load()
+    assert loaded is plugins.Plugin.load
+    assert plugins.Plugin("x", "xodrlint.plugins", "g").load() is plugins
