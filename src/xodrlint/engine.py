@@ -28,7 +28,7 @@ from xodrlint.findings import (
     Severity,
     Suppressed,
 )
-from xodrlint.model import build_network
+from xodrlint.model import RailNetwork, build_network
 from xodrlint.registry import Registry
 from xodrlint.rules import Rule
 from xodrlint.schema import SchemaValidators
@@ -44,6 +44,7 @@ SCHEMA_RULE: Final = "XS006"
 #: Findings of these rules mean the file is not an OpenDRIVE tree: nothing else runs.
 FATAL_CODES: Final = frozenset({"XS001", "XS002"})
 DOCUMENT_XPATH: Final = "/"
+DOCUMENT_PACK: Final = "xodrlint.rules.document"
 WARM_UP_BYTES: Final = 4096
 _HEADER_VERSION: Final = re.compile(
     rb"<header\b[^>]*?\brevMajor\s*=\s*[\"'](?P<major>\d+)[\"'][^>]*?"
@@ -139,6 +140,9 @@ class Linter:
         self.rules = select_rules(registry, self.options.select, self.options.ignore)
         self._codes = {r.code for r in self.rules}
         self._settings = resolve_rule_options(registry, self.options.rule_options)
+        # the document rules report what loading and validating found: they run last
+        self._document_rules = [r for r in self.rules if r.meta.pack == DOCUMENT_PACK]
+        self._model_rules = [r for r in self.rules if r.meta.pack != DOCUMENT_PACK]
         finder = SchemaFinder(option=self.options.schema, option_origin=self.options.schema_origin)
         self._validators = SchemaValidators(finder)
 
@@ -179,21 +183,18 @@ class Linter:
         problems: dict[str, list[Hit]] = {code: list(hits) for code, hits in doc.problems.items()}
         schema_label, builtin = None, False
         fatal = any(code in problems for code in FATAL_CODES)
-        if not fatal and SCHEMA_RULE in self._codes:
-            check = self._validators.check(doc)
-            if check is not None:
-                problems[SCHEMA_RULE] = list(check.hits)
-                schema_label, builtin = check.schema.describe(), check.schema.is_builtin
-        network = build_network(None if fatal else doc.root, problems)
+        # A large document validates in a forked child while the model and the railroad
+        # rules run here; the document rules report the stages' problems afterwards.
+        pending = self._validators.start(doc) if not fatal and SCHEMA_RULE in self._codes else None
         stamped: list[_Stamped] = []
         crashes: list[str] = []
-        for candidate in self.rules:
-            try:
-                hits = list(candidate(network, self._settings))
-            except Exception as error:  # a rule bug must not hide the other rules' findings
-                crashes.append(f"rule {candidate.code} failed on {path}: {error!r}")
-                continue
-            stamped.extend(self._stamp(doc, candidate, hit) for hit in hits)
+        network = build_network(None if fatal else doc.root)
+        self._run(self._model_rules, network, doc, stamped, crashes)
+        check = pending.result() if pending is not None else None
+        if check is not None:
+            problems[SCHEMA_RULE] = list(check.hits)
+            schema_label, builtin = check.schema.describe(), check.schema.is_builtin
+        self._run(self._document_rules, RailNetwork(problems=problems), doc, stamped, crashes)
         kept, withheld = self._apply_suppressions(doc, _one_defect_one_finding(stamped), external)
         findings = sorted(kept, key=lambda f: f.sort_key)
         source: dict[int, str] = {}
@@ -212,6 +213,22 @@ class Linter:
             internal_errors=tuple(crashes),
             suppressed=tuple(withheld) if self.options.keep_suppressed else (),
         )
+
+    def _run(
+        self,
+        rules: Sequence[Rule],
+        network: RailNetwork,
+        doc: Document,
+        stamped: list[_Stamped],
+        crashes: list[str],
+    ) -> None:
+        for candidate in rules:
+            try:
+                hits = list(candidate(network, self._settings))
+            except Exception as error:  # a rule bug must not hide the other rules' findings
+                crashes.append(f"rule {candidate.code} failed on {doc.path}: {error!r}")
+                continue
+            stamped.extend(self._stamp(doc, candidate, hit) for hit in hits)
 
     def _apply_suppressions(
         self, doc: Document, stamped: list[_Stamped], external: ExternalIgnores

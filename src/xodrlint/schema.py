@@ -1,20 +1,23 @@
 """Stage 2, schema: validate a document against the XSD of its version.
 
-OpenDRIVE 1.1 to 1.7 schemas are XSD 1.0 and run in libxml2; 1.8 and 1.9 are XSD 1.1 and
-run in xmlschema (imported only then). Without an official schema, the built-in railroad
+OpenDRIVE 1.1 to 1.7 schemas are XSD 1.0 and run in libxml2; 1.8 and 1.9 are XSD 1.1:
+libxml2 runs their XSD 1.0 form and ``xsd11_fast`` adds the 1.1-only checks (with
+xmlschema, imported only then). Without an official schema, the built-in railroad
 schema checks each ``road/railroad`` and ``station`` subtree. Every validator error
 becomes one XS006 hit on the element it is about, with a message from ``xsd_messages``.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Final, Protocol
+from typing import Final, NamedTuple, Protocol
 
 from lxml import etree
 
+from xodrlint import background
+from xodrlint.background import Pending
 from xodrlint.document import Document, parser_line
 from xodrlint.findings import Hit
 from xodrlint.schemas import SchemaFinder, SchemaLoadError, SchemaSet
@@ -39,6 +42,14 @@ class Validator(Protocol):
     def hits(self, doc: Document) -> Iterator[Hit]: ...
 
 
+class ErrorEntry(NamedTuple):
+    """One libxml2 error, as the parts of its log entry hits are made from."""
+
+    message: str
+    path: str | None
+    line: int
+
+
 #: libxml2's error log counts lines in 16 bits: later lines all read as this one.
 LIBXML2_LAST_LINE: Final = 65535
 
@@ -55,6 +66,20 @@ class SchemaValidators:
             return None
         return self._finder.find(doc.effective.major, doc.effective.minor)
 
+    def start(self, doc: Document) -> Pending[SchemaCheck | None]:
+        """Begin validating ``doc``: a large document validates in a forked child while
+        the caller runs the rules; :meth:`Pending.result` gives the check."""
+        schema = self.schema_for(doc)
+        if schema is None or doc.tree is None:
+            return Pending(lambda: None)
+        validator = self._validator(schema)  # compiled here, so a child inherits it
+        if isinstance(validator, Libxml2Validator):
+            raw = background.start(lambda: validator.raw_errors(doc), len(doc.data))
+            return Pending(
+                lambda: SchemaCheck(schema, tuple(validator.hits_from(doc, raw.result())))
+            )
+        return Pending(lambda: SchemaCheck(schema, tuple(validator.hits(doc))))
+
     def check(self, doc: Document) -> SchemaCheck | None:
         """Validate ``doc``; ``None`` when it has no readable version to pick a schema by."""
         schema = self.schema_for(doc)
@@ -70,9 +95,11 @@ class SchemaValidators:
             if schema.is_builtin:
                 validator = BuiltinRailroadValidator(schema)
             elif schema.is_xsd11:
-                from xodrlint.xsd11 import Xsd11Validator  # xmlschema is slow to import
+                # libxml2 on the set's XSD 1.0 form plus the 1.1-only checks (or, when
+                # that cannot stand in for it, xmlschema's full XSD 1.1 validation)
+                from xodrlint.xsd11_fast import xsd11_validator
 
-                validator = Xsd11Validator(schema.entry)
+                validator = xsd11_validator(schema.entry, Libxml2Validator)
             else:
                 validator = Libxml2Validator(schema.entry)
             self._compiled[key] = validator
@@ -151,9 +178,18 @@ class Libxml2Validator:
             raise SchemaLoadError(f"cannot compile schema {entry}: {error}") from error
 
     def hits(self, doc: Document) -> Iterator[Hit]:
+        return self.hits_from(doc, self.raw_errors(doc))
+
+    def raw_errors(self, doc: Document) -> list[ErrorEntry]:
+        """libxml2's errors as plain values (they may come from a forked child)."""
         assert doc.tree is not None
         self._schema.validate(doc.tree)
-        yield from errors_to_hits(doc, self._schema.error_log, self.catalog, doc.tree.getroot())
+        log: etree._ListErrorLog = self._schema.error_log
+        return [ErrorEntry(e.message, e.path, e.line) for e in log]
+
+    def hits_from(self, doc: Document, entries: list[ErrorEntry]) -> Iterator[Hit]:
+        assert doc.tree is not None
+        yield from errors_to_hits(doc, entries, self.catalog, doc.tree.getroot())
 
 
 class BuiltinRailroadValidator:
@@ -186,7 +222,7 @@ class BuiltinRailroadValidator:
 
 def errors_to_hits(
     doc: Document,
-    log: etree._ListErrorLog,
+    log: Iterable[ErrorEntry] | etree._ListErrorLog,
     catalog: TypeCatalog,
     validation_root: etree._Element,
 ) -> Iterator[Hit]:

@@ -2,8 +2,9 @@
 
 ## What it does
 Validates the file against the official ASAM schema of its declared version (1.1 to 1.7
-with libxml2, the XSD 1.1 schemas of 1.8 and 1.9 with xmlschema) and reports each error
-as one finding at the line of the element it is about: the element, the attribute, the
+with libxml2; the XSD 1.1 schemas of 1.8 and 1.9 as libxml2 on their XSD 1.0 form plus
+xmlschema for the asserts and type alternatives, equal to full XSD 1.1 validation) and
+reports each error as one finding at the line of the element it is about: the element, the attribute, the
 bad value and what the schema allows.
 
 Without an official schema (see `xodrlint schemas`), xodrlint's built-in railroad schema
