@@ -52,11 +52,12 @@ from collections import Counter
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Final, Protocol
+from typing import Any, Final, Protocol, runtime_checkable
 
 from lxml import etree
 
-from xodrlint import plugins
+from xodrlint import background, plugins
+from xodrlint.background import Pending
 from xodrlint.document import Document
 from xodrlint.findings import Hit
 from xodrlint.schemas import SchemaLoadError
@@ -114,6 +115,15 @@ _XSD11_READING: Final = (
     "boolean(//@xsi:type | //@xsi:nil | //@*[contains(., '+INF')] | //text()[contains(., '+INF')])"
 )
 _PREFIXED_TYPE_OR_NIL: Final = re.compile(rb"[\w.-]:(?:type|nil)\s*=")
+
+
+@runtime_checkable
+class ForkableSource(Protocol):
+    """A libxml2 validator whose raw errors can come back from a forked child."""
+
+    def raw_errors(self, doc: Document) -> Any: ...
+
+    def hits_from(self, doc: Document, entries: Any) -> Iterator[Hit]: ...
 
 
 class HitSource(Protocol):
@@ -624,9 +634,34 @@ class FastXsd11Validator:
             found = list(self.full.hits(doc))
         yield from found
 
-    def _fast_hits(self, doc: Document) -> Iterator[Hit]:
+    def start(self, doc: Document) -> Pending[list[Hit]]:
+        """Begin validating: libxml2's part runs in a forked child for a large document
+        (see :mod:`xodrlint.background`) while the caller runs the rules; the 1.1-only
+        checks run when the result is asked for."""
         assert doc.tree is not None
         root = doc.tree.getroot()
+        try:
+            model, plan = self._prepare(doc, root)
+        except _NeedsFull:
+            return Pending(lambda: list(self.hits(doc)))
+        libxml2 = self._libxml2
+        if not isinstance(libxml2, ForkableSource):
+            return Pending(lambda: list(self.hits(doc)))
+        with _xsi_types(plan.marks):  # the child sees the marks as they are at the fork
+            raw = background.start(lambda: libxml2.raw_errors(doc), len(doc.data))
+            if not background.can_fork(len(doc.data)):
+                raw.result()  # not forked: validate now, while the marks are on
+
+        def finish() -> list[Hit]:
+            hits = list(libxml2.hits_from(doc, raw.result()))
+            try:
+                return list(self._checked(root, model, plan, hits))
+            except _NeedsFull:
+                return list(self.full.hits(doc))
+
+        return Pending(finish)
+
+    def _prepare(self, doc: Document, root: etree._Element) -> tuple[_Model | None, _Plan]:
         if self._unsupported is not None:
             raise _NeedsFull(self._unsupported)
         if _needs_xsd11_reading(doc, root):
@@ -634,8 +669,20 @@ class FastXsd11Validator:
         needs_model = self.form.asserts or self.form.alternatives
         model = self.model() if needs_model else None
         plan = model.plan(root) if model is not None else _Plan([], [])
+        return model, plan
+
+    def _fast_hits(self, doc: Document) -> Iterator[Hit]:
+        assert doc.tree is not None
+        root = doc.tree.getroot()
+        model, plan = self._prepare(doc, root)
         with _xsi_types(plan.marks):
             raw = list(self._libxml2.hits(doc))
+        yield from self._checked(root, model, plan, raw)
+
+    def _checked(
+        self, root: etree._Element, model: _Model | None, plan: _Plan, raw: list[Hit]
+    ) -> Iterator[Hit]:
+        """libxml2's hits on the XSD 1.0 form, completed by the XSD 1.1-only checks."""
         skipped = self._skipped(raw)
         inside = _Subtrees(skipped)
         identity = self._identity_errors(root, skipped) if skipped else None
