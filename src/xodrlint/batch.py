@@ -42,7 +42,7 @@ class Task:
 LintTask = Callable[[Task], FileReport]
 
 #: Tasks per message to a worker: few enough round trips, small enough to share out.
-CHUNKS_PER_WORKER: Final = 8
+CHUNKS_PER_WORKER: Final = 4
 
 # The linter workers use. Forked workers inherit the parent's (with every schema it has
 # compiled so far); spawned ones build their own in the pool's initializer.

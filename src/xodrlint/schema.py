@@ -60,11 +60,15 @@ class SchemaValidators:
     def __init__(self, finder: SchemaFinder) -> None:
         self._finder = finder
         self._compiled: dict[tuple[Path, bool], Validator] = {}
+        self._found: dict[tuple[int, int], SchemaSet | None] = {}
 
     def schema_for(self, doc: Document) -> SchemaSet | None:
         if doc.effective is None:
             return None
-        return self._finder.find(doc.effective.major, doc.effective.minor)
+        version = (doc.effective.major, doc.effective.minor)
+        if version not in self._found:  # finding walks schema folders: once per version
+            self._found[version] = self._finder.find(*version)
+        return self._found[version]
 
     def start(self, doc: Document) -> Pending[SchemaCheck | None]:
         """Begin validating ``doc``: a large document validates in a forked child while
