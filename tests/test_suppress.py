@@ -182,3 +182,34 @@ def test_suppressions_work_in_utf16_files(tmp_path: Path) -> None:
     path = tmp_path / "wide.xodr"
     path.write_bytes(text.encode("utf-16"))
     assert [c for c, _ in _lint(path)] == ["XS006", "ST004", "XS006"]
+
+
+def test_unused_suppressions_only_count_rules_that_ran(tmp_path: Path) -> None:
+    path = REPO / "examples" / "suppressed.xodr"
+    # only ST004 runs: the XS006/SW006/RL003 entries cannot be judged, so none is stale
+    findings = _lint(path, select=("ST004",), warn_unused_suppressions=True)
+    assert [code for code, _ in findings] == ["ST004"]
+    typo = _variant(tmp_path, (SEGMENT, "      <!-- xodrlint: ignore[NOPE123] -->\n" + SEGMENT))
+    assert "XL001" in [c for c, _ in _lint(typo, select=("ST004",), warn_unused_suppressions=True)]
+
+
+def test_writing_a_baseline_over_the_one_in_use_keeps_every_finding(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "a.xodr").write_bytes(BROKEN.read_bytes())
+    assert run("check", "a.xodr", "--write-baseline", "b.json").exit_code == 0
+    again = run("check", "a.xodr", "--baseline", "b.json", "--write-baseline", "b.json")
+    assert again.exit_code == 0 and "recorded 6 findings" in again.stderr
+    assert len(json.loads((tmp_path / "b.json").read_text("utf-8"))["findings"]) == 6
+
+
+def test_write_baseline_refuses_to_overwrite_an_input(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "a.xodr").write_bytes(BROKEN.read_bytes())
+    result = run("check", "a.xodr", "--write-baseline", "a.xodr")
+    assert result.exit_code == 2
+    assert "--write-baseline a.xodr: is one of the inputs" in result.stderr
+    assert (tmp_path / "a.xodr").read_bytes() == BROKEN.read_bytes()

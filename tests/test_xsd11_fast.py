@@ -5,6 +5,7 @@ cache of derived schema forms is written once, keyed by content, and optional.""
 
 from __future__ import annotations
 
+import os
 import re
 import shutil
 from collections.abc import Iterator
@@ -683,3 +684,28 @@ def test_sets_the_xsd10_form_cannot_stand_in_for_are_validated_in_full(
         assert form.entry is None and any(why in item for item in form.unsupported)
     if why != "dateTimeStamp":  # xmlschema itself cannot build that one here
         assert isinstance(xsd11_validator(tmp_path / "set.xsd", Libxml2Validator), Xsd11Validator)
+
+
+@pytest.mark.parametrize("child", ["forked", "dies"])
+def test_the_forked_start_marks_types_in_the_child_and_in_the_fallback(
+    pairs: dict[str, Pair], monkeypatch: pytest.MonkeyPatch, child: str
+) -> None:
+    from xodrlint import background
+    from xodrlint.schema import Libxml2Validator
+
+    data = _document("1.9.0", ALTERNATIVE_CASES["connection", "@type='virtual'"])
+    doc = load_bytes(data, "virtual.xodr")
+    expected = _seen(doc, list(pairs["1.9.0"].fast.hits(doc)))
+    monkeypatch.setattr(background, "MIN_BYTES", 0)
+    if child == "dies":
+        parent = os.getpid()
+        validate = Libxml2Validator.raw_errors
+
+        def dying(self: Libxml2Validator, doc: Document) -> object:
+            if os.getpid() != parent:
+                os._exit(9)
+            return validate(self, doc)
+
+        monkeypatch.setattr(Libxml2Validator, "raw_errors", dying)
+    started = pairs["1.9.0"].fast.start(doc)
+    assert _seen(doc, started.result()) == expected

@@ -127,7 +127,9 @@ def run_check(request: CheckRequest) -> int:
         linter = _linter(registry, settings, request)
         formatter = _formatter(settings.output_format, request)
         inputs = list(collect_inputs(request.paths, _excluder(settings)))
-        _check_output_target(request.output, inputs)
+        _check_output_target("--output", request.output, inputs)
+        if request.write_baseline is not None:
+            _check_output_target("--write-baseline", str(request.write_baseline), inputs)
         recorded = None
         if request.baseline is not None:
             from xodrlint.baseline import load_baseline
@@ -142,17 +144,17 @@ def run_check(request: CheckRequest) -> int:
         error_line(str(error))
         return 2
     root = str(Path.cwd())
-    if recorded is not None:
-        from xodrlint.baseline import apply_baseline
-
-        reports = apply_baseline(reports, recorded, root, keep=request.show_suppressed)
     for report in reports:
         if report.error:
             error_line(report.error)
         for crash in report.internal_errors:
             error_line(f"internal error: {crash}")
-    if request.write_baseline is not None:
+    if request.write_baseline is not None:  # every current finding, the baseline's too
         return _write_baseline(request.write_baseline, reports, root)
+    if recorded is not None:
+        from xodrlint.baseline import apply_baseline
+
+        reports = apply_baseline(reports, recorded, root, keep=request.show_suppressed)
     metas = registry.metas + ((UNUSED_META,) if settings.warn_unused_suppressions else ())
     result = RunResult(tuple(reports), metas, __version__, notes=run_notes(reports), root=root)
     try:
@@ -235,18 +237,18 @@ def _per_file_ignores(settings: Settings, path: Path) -> tuple[tuple[str, str], 
     )
 
 
-def _check_output_target(output: str | None, inputs: list[Input]) -> None:
-    """Refuse an output that cannot take the report, before any linting is done."""
+def _check_output_target(flag: str, output: str | None, inputs: list[Input]) -> None:
+    """Refuse an output that cannot take what is written there, before any linting."""
     if output in (None, STDOUT):
         return
     target = Path(output)
     real = os.path.realpath(target)
     if any(item.path is not None and os.path.realpath(item.path) == real for item in inputs):
-        raise UsageError(f"--output {output}: is one of the inputs; refusing to overwrite it")
+        raise UsageError(f"{flag} {output}: is one of the inputs; refusing to overwrite it")
     if target.is_dir():
-        raise UsageError(f"--output {output}: is a folder")
+        raise UsageError(f"{flag} {output}: is a folder")
     if not target.parent.is_dir():
-        raise UsageError(f"--output {output}: its folder {target.parent} does not exist")
+        raise UsageError(f"{flag} {output}: its folder {target.parent} does not exist")
 
 
 def run_notes(reports: list[FileReport]) -> tuple[str, ...]:

@@ -251,8 +251,14 @@ class Linter:
             else:
                 kept.append(item.finding)
         if self.options.warn_unused_suppressions:
-            kept.extend(unused_findings(doc, suppressions, self.options.severity))
+            kept.extend(unused_findings(doc, suppressions, self.options.severity, self._judgeable))
         return kept, withheld
+
+    def _judgeable(self, selector: str) -> bool:
+        """Whether this run can tell that a suppression entry is stale: it names no
+        rule at all (a typo), or one of the rules it names ran."""
+        named = [code for code in self.registry.by_code if self._selector_matches(selector, code)]
+        return not named or any(code in self._codes for code in named)
 
     def _selector_matches(self, selector: str, code: str) -> bool:
         candidate = self.registry.by_code.get(code)

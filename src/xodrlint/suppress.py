@@ -98,9 +98,6 @@ class Suppressions:
             if directive.target is not None:
                 self._by_target.setdefault(directive.target, []).append(directive)
 
-    def __bool__(self) -> bool:
-        return bool(self.directives)
-
     def withholding(self, code: str, element: etree._Element | None) -> Directive | None:
         """The directive that withholds ``code`` on ``element``, marking it used."""
         for directive in self._candidates(element):
@@ -117,11 +114,13 @@ class Suppressions:
             current = current.getparent()
         yield from self._file_wide
 
-    def unused(self) -> Iterator[tuple[Directive, tuple[str, ...]]]:
-        """Each directive with the selectors that withheld nothing (all of them, if none
-        did; an entry that names no rule is always unused)."""
+    def unused(
+        self, judgeable: Callable[[str], bool]
+    ) -> Iterator[tuple[Directive, tuple[str, ...]]]:
+        """Each directive with the selectors that withheld nothing. Only ``judgeable``
+        selectors count: one whose rules did not run may well be needed."""
         for directive in self.directives:
-            idle = tuple(s for s in directive.selectors if s not in directive.used)
+            idle = tuple(s for s in directive.selectors if s not in directive.used and judgeable(s))
             if idle or not directive.selectors:
                 yield directive, idle
 
@@ -144,10 +143,13 @@ UNUSED_META: Final = RuleMeta(
 
 
 def unused_findings(
-    doc: Document, suppressions: Suppressions, severity: Mapping[str, Severity]
+    doc: Document,
+    suppressions: Suppressions,
+    severity: Mapping[str, Severity],
+    judgeable: Callable[[str], bool],
 ) -> Iterator[Finding]:
     """An XL001 finding per suppression comment with entries that withheld nothing."""
-    for directive, idle in suppressions.unused():
+    for directive, idle in suppressions.unused(judgeable):
         anchor = directive.target if directive.target is not None else directive.comment.getparent()
         shown = ", ".join(idle) if idle else "nothing"
         yield Finding(

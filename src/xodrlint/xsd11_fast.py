@@ -61,7 +61,7 @@ from xodrlint.background import Pending
 from xodrlint.document import Document
 from xodrlint.findings import Hit
 from xodrlint.schemas import SchemaLoadError
-from xodrlint.xsd_messages import XS
+from xodrlint.xsd_messages import CHILD_KINDS, XS
 
 #: Where derived schema forms are cached (default: the user cache folder).
 CACHE_DIR_ENV: Final = plugins.CACHE_ENV
@@ -78,8 +78,7 @@ XSI_TYPE: Final = f"{{{XSI}}}type"
 _PROCESSOR_VERSION: Final = (1, 1)
 
 #: libxml2 kinds folded onto xmlschema's: what the XS006 rule and the engine tell apart.
-_UNEXPECTED: Final = frozenset({"unexpected_element", "unexpected_element_bare"})
-_CHILD_KINDS: Final = frozenset({"missing_child", *_UNEXPECTED})
+_UNEXPECTED: Final = CHILD_KINDS - {"missing_child"}
 _IDENTITY_KINDS: Final = frozenset({"keyref", "duplicate", "key_field"})
 
 # XSD 1.1 syntax the XSD 1.0 form cannot stand in for: the set is validated in full.
@@ -647,10 +646,14 @@ class FastXsd11Validator:
         libxml2 = self._libxml2
         if not isinstance(libxml2, ForkableSource):
             return Pending(lambda: list(self.hits(doc)))
-        with _xsi_types(plan.marks):  # the child sees the marks as they are at the fork
-            raw = background.start(lambda: libxml2.raw_errors(doc), len(doc.data))
-            if not background.can_fork(len(doc.data)):
-                raw.result()  # not forked: validate now, while the marks are on
+
+        def marked_errors() -> Any:
+            # the marks go on wherever this runs: in a forked child, here, or here again
+            # when the child died
+            with _xsi_types(plan.marks):
+                return libxml2.raw_errors(doc)
+
+        raw = background.start(marked_errors, len(doc.data))
 
         def finish() -> list[Hit]:
             hits = list(libxml2.hits_from(doc, raw.result()))
@@ -775,7 +778,7 @@ def _as_xsd11(hit: Hit) -> Hit:
         element = element.getparent()
     if hit.kind in ("keyref", "duplicate"):
         kind = hit.kind
-    elif hit.kind in _CHILD_KINDS:
+    elif hit.kind in CHILD_KINDS:
         kind = "missing_child"
     else:
         kind = "other"
