@@ -21,7 +21,6 @@ from xodrlint.findings import Severity
 CONFIG_NAMES: Final = (".xodrlint.toml", "xodrlint.toml", "pyproject.toml")
 DEFAULT: Final = "default"
 COMMAND_LINE: Final = "command line"
-OUTPUT_FORMATS_HINT: Final = "an output format name"
 
 
 class ConfigError(ValueError):

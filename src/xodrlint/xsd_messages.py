@@ -195,8 +195,9 @@ _REWRITES: Final[tuple[tuple[re.Pattern[str], str], ...]] = (
 
 _ABSTRACT: Final = re.compile(r"^The type definition is abstract\.?$")
 
-#: Message kinds about identity constraints or required children: the railroad rules
-#: (SW004, PT001, ST001, ...) report these better when they concern railroad elements.
+#: Kinds of errors about a missing or misplaced child element (libxml2 words a missing
+#: child either way, depending on what else the parent holds).
+CHILD_KINDS: Final = frozenset({"missing_child", "unexpected_element", "unexpected_element_bare"})
 
 
 @dataclass(frozen=True, slots=True)

@@ -45,9 +45,11 @@ class Rule:
         return self.meta.code
 
     def __call__(self, network: RailNetwork, settings: Settings | None = None) -> Iterator[Hit]:
-        values = {option.name: option.default for option in self.meta.options}
-        values.update(settings or {})
-        yield from self.check(network, values)
+        """Run the rule; without ``settings`` its options take their defaults (the engine
+        passes every option already resolved)."""
+        if settings is None:
+            settings = {option.name: option.default for option in self.meta.options}
+        yield from self.check(network, settings)
 
 
 def rule(

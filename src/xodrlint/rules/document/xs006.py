@@ -49,6 +49,7 @@ from lxml import etree
 from xodrlint.findings import Hit, Severity
 from xodrlint.model import RailNetwork
 from xodrlint.rules import rule
+from xodrlint.xsd_messages import CHILD_KINDS
 
 #: Which railroad rule reports a schema identity error better, by kind and element.
 TAKEN_OVER_BY: Final = {
@@ -62,7 +63,6 @@ TAKEN_OVER_BY: Final = {
 }
 #: A container that lacks its first required child, and the rule that reports it.
 REQUIRED_CHILD: Final = {"station": ("platform", "ST001"), "platform": ("segment", "ST002")}
-CHILD_KINDS: Final = frozenset({"missing_child", "unexpected_element", "unexpected_element_bare"})
 
 
 @rule(
