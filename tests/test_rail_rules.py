@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -161,3 +162,25 @@ def test_duplicates_name_the_first_with_its_line() -> None:
     assert finding.as_dict()["related"] == [
         {"line": first + 1, "xpath": "/OpenDRIVE/road[@id='1']/railroad/switch[@id='11']"}
     ]
+
+
+def test_any_rule_option_by_name_on_the_command_line(tmp_path: Path) -> None:
+    path = tmp_path / "narrow.xodr"
+    path.write_bytes(_file(_road("1", width=1.2)))
+    runner = CliRunner()
+    ok = runner.invoke(app, ["check", "-q", "--rule-option", "rail-min-width=1.0", str(path)])
+    assert ok.exit_code == 0
+    for bad in ("rail-min-width", "rail-min-width=wide", "=1"):
+        refused = runner.invoke(app, ["check", "--rule-option", bad, str(path)])
+        assert refused.exit_code == 2 and "expected NAME=NUMBER" in refused.stderr
+    unknown = runner.invoke(app, ["check", "--rule-option", "gauge=1", str(path)])
+    assert unknown.exit_code == 2 and "unknown rule option 'gauge'" in unknown.stderr
+
+
+def test_the_option_flags_state_the_rules_defaults() -> None:
+    from xodrlint.rules.lanes.rl002 import TOLERANCE
+    from xodrlint.rules.lanes.rl003 import MIN_WIDTH
+
+    text = CliRunner().invoke(app, ["check", "--help"], env={"COLUMNS": "300"}).stdout
+    assert f"default {MIN_WIDTH.default:g}" in text
+    assert f"default {TOLERANCE.default:g}" in text

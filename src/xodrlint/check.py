@@ -25,7 +25,14 @@ from xodrlint.config import (
     read_config,
     settings_from,
 )
-from xodrlint.engine import Linter, LintOptions, OptionError, SelectorError, select_rules
+from xodrlint.engine import (
+    Linter,
+    LintOptions,
+    OptionError,
+    SelectorError,
+    resolve_rule_options,
+    select_rules,
+)
 from xodrlint.findings import FileReport, RunResult
 from xodrlint.formatters import Formatter, available, get_formatter
 from xodrlint.output import STDOUT, error_line, write_output
@@ -89,11 +96,13 @@ def resolve_settings(
     else:
         first = next((p for p in paths if p != STDOUT), ".")
         found = find_config(Path(first))
-    option_names = {option.name for rule in registry.rules for option in rule.meta.options}
+    minimums = {
+        option.name: option.minimum for rule in registry.rules for option in rule.meta.options
+    }
     return settings_from(
         found,
         overrides or {},
-        option_names=option_names,
+        option_minimums=minimums,
         known_codes=registry.by_code,
     )
 
@@ -117,6 +126,7 @@ def run_check(request: CheckRequest) -> int:
     for warning in registry.warnings:
         error_line(f"warning: {warning}")
     try:
+        resolve_rule_options(registry, request.rule_options)  # names the command line got
         settings = resolve_settings(
             registry,
             request.paths,

@@ -224,6 +224,13 @@ def check(
             rich_help_panel=_RULE_OPTIONS,
         ),
     ] = None,
+    rule_option: Annotated[
+        list[str] | None,
+        typer.Option(
+            help="Any rule option, a plugin's too: NAME=NUMBER (repeatable).",
+            rich_help_panel=_RULE_OPTIONS,
+        ),
+    ] = None,
 ) -> None:
     """Lint OpenDRIVE files and report findings."""
     from xodrlint.check import CheckRequest, run_check
@@ -242,9 +249,12 @@ def check(
             quiet=quiet,
             show_source=show_source,
             stdin_filename=stdin_filename,
-            rule_options=_rule_options(
-                {"rail-min-width": rail_min_width, "refline-tolerance": refline_tolerance}
-            ),
+            rule_options={
+                **_named_options(rule_option or []),
+                **_rule_options(
+                    {"rail-min-width": rail_min_width, "refline-tolerance": refline_tolerance}
+                ),
+            },
             config=config,
             isolated=isolated,
             exclude=_split(exclude) or None,
@@ -261,6 +271,19 @@ def check(
 
 def _rule_options(given: dict[str, float | None]) -> dict[str, float]:
     return {name: value for name, value in given.items() if value is not None}
+
+
+def _named_options(entries: list[str]) -> dict[str, float]:
+    values: dict[str, float] = {}
+    for entry in entries:
+        name, sign, raw = entry.partition("=")
+        try:
+            values[name.strip()] = float(raw)
+        except ValueError:
+            sign = ""
+        if not sign or not name.strip():
+            _fail(f"--rule-option {entry}: expected NAME=NUMBER")
+    return values
 
 
 @app.command("config")

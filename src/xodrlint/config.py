@@ -198,17 +198,19 @@ def settings_from(
     config: ConfigFile | None,
     overrides: Mapping[str, object],
     *,
-    option_names: Iterable[str] = (),
+    option_minimums: Mapping[str, float] | None = None,
     known_codes: Iterable[str] = (),
 ) -> Settings:
     """The effective settings: defaults, then ``config``, then ``overrides`` (the command
-    line, ``None`` meaning not given). ``option_names`` are the rule options rules declare;
-    ``known_codes`` the rule codes ``severity`` may name."""
-    options = set(option_names)
+    line, ``None`` meaning not given). ``option_minimums`` gives each rule option the rules
+    declare with its smallest allowed value; ``known_codes`` the codes ``severity`` may
+    name."""
+    minimums = dict(option_minimums or {})
+    options = set(minimums)
     values: dict[str, object] = {}
     sources: dict[str, str] = {}
     if config is not None:
-        values.update(_validated(config, options, set(known_codes)))
+        values.update(_validated(config, minimums, set(known_codes)))
         sources.update(dict.fromkeys(values, str(config.path)))
     for key, value in overrides.items():
         if value is not None:
@@ -240,7 +242,9 @@ def _get(values: Mapping[str, object], key: str, default: Any) -> Any:
     return values.get(key, default)
 
 
-def _validated(config: ConfigFile, options: set[str], codes: set[str]) -> dict[str, object]:
+def _validated(
+    config: ConfigFile, options: Mapping[str, float], codes: set[str]
+) -> dict[str, object]:
     where = (
         f"{config.path} [tool.xodrlint]" if config.path.name == "pyproject.toml" else config.path
     )
@@ -254,8 +258,8 @@ def _validated(config: ConfigFile, options: set[str], codes: set[str]) -> dict[s
             values[key] = reader(raw)
         except TypeError as expected:
             raise ConfigError(f"{where}: '{key}' must be {expected}, got {raw!r}") from None
-        if key in options and values[key] < 0:  # type: ignore[operator]
-            raise ConfigError(f"{where}: '{key}' must not be negative, got {raw!r}")
+        if key in options and values[key] < options[key]:  # type: ignore[operator]
+            raise ConfigError(f"{where}: '{key}' must be >= {options[key]:g}, got {raw!r}")
     unknown = [code for code in _get(values, "severity", {}) if codes and code not in codes]
     if unknown:
         raise ConfigError(f"{where}: 'severity' names no rule '{unknown[0]}'")
