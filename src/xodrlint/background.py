@@ -17,6 +17,10 @@ import sys
 from collections.abc import Callable
 from typing import Final, Generic, TypeVar
 
+from lxml import etree
+
+from xodrlint.findings import Hit
+
 _T = TypeVar("_T")
 
 #: Below this many bytes a fork costs more than the overlap saves.
@@ -86,3 +90,47 @@ def _collect(pid: int, read_end: int, task: Callable[[], _T]) -> _T:
         value: _T = pickle.loads(payload)
         return value
     return task()  # the child died (killed, out of memory): do it here instead
+
+
+# -- hits across the fork ------------------------------------------------------------------
+
+#: A hit as plain values: where its element is (child indices from the root), and the rest.
+_SentHit = tuple[tuple[int, ...] | None, str, int | None, int | None, str]
+
+
+def start_hits(
+    task: Callable[[], list[Hit]], root: etree._Element, size: int
+) -> Pending[list[Hit]]:
+    """:func:`start` for a task that yields hits about ``root``'s tree: the child sends
+    each hit's element as its position in the tree, and the parent finds it again there
+    (the trees are the same: the child is a fork)."""
+    sent = start(lambda: [_send(hit, root) for hit in task()], size)
+    return Pending(lambda: [_receive(item, root) for item in sent.result()])
+
+
+def _send(hit: Hit, root: etree._Element) -> _SentHit:
+    return (_position(hit.element, root), hit.message, hit.line, hit.column, hit.kind)
+
+
+def _receive(item: _SentHit, root: etree._Element) -> Hit:
+    position, message, line, column, kind = item
+    element = None
+    if position is not None:
+        element = root
+        for index in position:
+            element = element[index]
+    return Hit(element, message, line=line, column=column, kind=kind)
+
+
+def _position(element: etree._Element | None, root: etree._Element) -> tuple[int, ...] | None:
+    if element is None:
+        return None
+    steps: list[int] = []
+    current = element
+    while current is not root:
+        parent = current.getparent()
+        if parent is None:  # not in this tree (a sibling of the root): no element to name
+            return None
+        steps.append(parent.index(current))
+        current = parent
+    return tuple(reversed(steps))

@@ -9,10 +9,10 @@ becomes one XS006 hit on the element it is about, with a message from ``xsd_mess
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Final, NamedTuple, Protocol
+from typing import Final, Protocol
 
 from lxml import etree
 
@@ -42,14 +42,6 @@ class Validator(Protocol):
     def hits(self, doc: Document) -> Iterator[Hit]: ...
 
 
-class ErrorEntry(NamedTuple):
-    """One libxml2 error, as the parts of its log entry hits are made from."""
-
-    message: str
-    path: str | None
-    line: int
-
-
 #: libxml2's error log counts lines in 16 bits: later lines all read as this one.
 LIBXML2_LAST_LINE: Final = 65535
 
@@ -77,16 +69,10 @@ class SchemaValidators:
         if schema is None or doc.tree is None:
             return Pending(lambda: None)
         validator = self._validator(schema)  # compiled here, so a child inherits it
-        if isinstance(validator, Libxml2Validator):
-            raw = background.start(lambda: validator.raw_errors(doc), len(doc.data))
-            return Pending(
-                lambda: SchemaCheck(schema, tuple(validator.hits_from(doc, raw.result())))
-            )
-        starts = getattr(validator, "start", None)  # the XSD 1.1 fast path forks its own way
-        if callable(starts):
-            begun: Pending[list[Hit]] = starts(doc)
-            return Pending(lambda: SchemaCheck(schema, tuple(begun.result())))
-        return Pending(lambda: SchemaCheck(schema, tuple(validator.hits(doc))))
+        root = doc.tree.getroot()
+        # the whole validation, XSD 1.1 checks included, runs in the child
+        hits = background.start_hits(lambda: list(validator.hits(doc)), root, len(doc.data))
+        return Pending(lambda: SchemaCheck(schema, tuple(hits.result())))
 
     def check(self, doc: Document) -> SchemaCheck | None:
         """Validate ``doc``; ``None`` when it has no readable version to pick a schema by."""
@@ -186,18 +172,9 @@ class Libxml2Validator:
             raise SchemaLoadError(f"cannot compile schema {entry}: {error}") from error
 
     def hits(self, doc: Document) -> Iterator[Hit]:
-        return self.hits_from(doc, self.raw_errors(doc))
-
-    def raw_errors(self, doc: Document) -> list[ErrorEntry]:
-        """libxml2's errors as plain values (they may come from a forked child)."""
         assert doc.tree is not None
         self._schema.validate(doc.tree)
-        log: etree._ListErrorLog = self._schema.error_log
-        return [ErrorEntry(e.message, e.path, e.line) for e in log]
-
-    def hits_from(self, doc: Document, entries: list[ErrorEntry]) -> Iterator[Hit]:
-        assert doc.tree is not None
-        yield from errors_to_hits(doc, entries, self.catalog, doc.tree.getroot())
+        yield from errors_to_hits(doc, self._schema.error_log, self.catalog, doc.tree.getroot())
 
 
 class BuiltinRailroadValidator:
@@ -230,7 +207,7 @@ class BuiltinRailroadValidator:
 
 def errors_to_hits(
     doc: Document,
-    log: Iterable[ErrorEntry] | etree._ListErrorLog,
+    log: etree._ListErrorLog,
     catalog: TypeCatalog,
     validation_root: etree._Element,
 ) -> Iterator[Hit]:

@@ -52,12 +52,11 @@ from collections import Counter
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Final, Protocol, runtime_checkable
+from typing import Any, Final, Protocol
 
 from lxml import etree
 
-from xodrlint import background, plugins
-from xodrlint.background import Pending
+from xodrlint import plugins
 from xodrlint.document import Document
 from xodrlint.findings import Hit
 from xodrlint.schemas import SchemaLoadError
@@ -114,15 +113,6 @@ _XSD11_READING: Final = (
     "boolean(//@xsi:type | //@xsi:nil | //@*[contains(., '+INF')] | //text()[contains(., '+INF')])"
 )
 _PREFIXED_TYPE_OR_NIL: Final = re.compile(rb"[\w.-]:(?:type|nil)\s*=")
-
-
-@runtime_checkable
-class ForkableSource(Protocol):
-    """A libxml2 validator whose raw errors can come back from a forked child."""
-
-    def raw_errors(self, doc: Document) -> Any: ...
-
-    def hits_from(self, doc: Document, entries: Any) -> Iterator[Hit]: ...
 
 
 class HitSource(Protocol):
@@ -632,37 +622,6 @@ class FastXsd11Validator:
         except _NeedsFull:
             found = list(self.full.hits(doc))
         yield from found
-
-    def start(self, doc: Document) -> Pending[list[Hit]]:
-        """Begin validating: libxml2's part runs in a forked child for a large document
-        (see :mod:`xodrlint.background`) while the caller runs the rules; the 1.1-only
-        checks run when the result is asked for."""
-        assert doc.tree is not None
-        root = doc.tree.getroot()
-        try:
-            model, plan = self._prepare(doc, root)
-        except _NeedsFull:
-            return Pending(lambda: list(self.hits(doc)))
-        libxml2 = self._libxml2
-        if not isinstance(libxml2, ForkableSource):
-            return Pending(lambda: list(self.hits(doc)))
-
-        def marked_errors() -> Any:
-            # the marks go on wherever this runs: in a forked child, here, or here again
-            # when the child died
-            with _xsi_types(plan.marks):
-                return libxml2.raw_errors(doc)
-
-        raw = background.start(marked_errors, len(doc.data))
-
-        def finish() -> list[Hit]:
-            hits = list(libxml2.hits_from(doc, raw.result()))
-            try:
-                return list(self._checked(root, model, plan, hits))
-            except _NeedsFull:
-                return list(self.full.hits(doc))
-
-        return Pending(finish)
 
     def _prepare(self, doc: Document, root: etree._Element) -> tuple[_Model | None, _Plan]:
         if self._unsupported is not None:
