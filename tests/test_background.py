@@ -52,3 +52,17 @@ def test_forked_validation_gives_the_same_findings(
     forked = Linter(default_registry(), LintOptions(schema=SHARED_SCHEMAS)).lint_path(path)
     assert forked.findings == alone.findings
     assert forked.schema == alone.schema
+
+
+def test_no_fork_while_other_threads_run() -> None:
+    import threading
+
+    assert background.can_fork(background.MIN_BYTES)
+    release = threading.Event()
+    other = threading.Thread(target=release.wait)
+    other.start()
+    try:
+        assert not background.can_fork(background.MIN_BYTES)
+    finally:
+        release.set()
+        other.join()

@@ -14,6 +14,7 @@ from __future__ import annotations
 import os
 import pickle
 import sys
+import threading
 from collections.abc import Callable
 from typing import Final, Generic, TypeVar
 
@@ -45,11 +46,14 @@ class Pending(Generic[_T]):
 
 
 def can_fork(size: int) -> bool:
+    # Never fork a process that runs other threads (an application calling the API from
+    # a thread pool): a lock one of them holds would stay locked in the child for ever.
     return (
         size >= MIN_BYTES
         and hasattr(os, "fork")
         and sys.platform.startswith("linux")
         and os.environ.get(ENV, "1") != "0"
+        and threading.active_count() == 1
     )
 
 
