@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Final, TextIO
 
 from xodrlint import __version__
-from xodrlint.api import Input, collect_inputs, default_registry, exit_code
+from xodrlint.api import STDIN, Input, collect_inputs, default_registry, exit_code
 from xodrlint.baseline import BaselineError
 from xodrlint.batch import Task, default_jobs, lint_tasks
 from xodrlint.config import (
@@ -94,7 +94,7 @@ def resolve_settings(
     elif config is not None:
         found = read_config(config)
     else:
-        first = next((p for p in paths if p != STDOUT), ".")
+        first = next((p for p in paths if p != STDIN), ".")
         found = find_config(Path(first))
     minimums = {
         option.name: option.minimum for rule in registry.rules for option in rule.meta.options
@@ -229,7 +229,7 @@ def _lint(
         if item.error is not None:
             reports.append(FileReport(item.display, error=item.error))
         elif item.is_stdin:
-            name = request.stdin_filename or STDOUT
+            name = request.stdin_filename or STDIN
             external = _per_file_ignores(settings, Path(name)) if request.stdin_filename else ()
             reports.append(linter.lint_bytes(stdin or b"", name, external))
         else:

@@ -300,13 +300,14 @@ def _glob_regex(pattern: str) -> re.Pattern[str]:
 
 def matches(pattern: str, path: str | Path, base: Path) -> bool:
     """Whether ``path`` (a file) matches ``pattern``, relative to ``base``."""
+    return any_match((pattern,), path, base)
+
+
+def any_match(patterns: Sequence[str], path: str | Path, base: Path) -> bool:
+    """Whether ``path`` matches one of ``patterns``; the path is resolved once."""
     candidate = Path(path)
     try:
         relative = candidate.resolve().relative_to(base.resolve()).as_posix()
     except ValueError:
         relative = candidate.as_posix()
-    return _glob_regex(pattern).fullmatch(relative) is not None
-
-
-def any_match(patterns: Sequence[str], path: str | Path, base: Path) -> bool:
-    return any(matches(pattern, path, base) for pattern in patterns)
+    return any(_glob_regex(pattern).fullmatch(relative) is not None for pattern in patterns)

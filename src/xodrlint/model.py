@@ -29,7 +29,11 @@ NON_TRAFFIC_LANE_TYPES: Final = frozenset(
 )
 
 #: Roads with a rail or tram lane in any lane section, found by libxml2 in one pass.
-_RAIL_ROADS: Final = etree.XPath("road[lanes/laneSection/*/lane[@type='rail' or @type='tram']]")
+_RAIL_ROADS: Final = etree.XPath(
+    "road[lanes/laneSection/*/lane["
+    + " or ".join(f"@type='{lane_type}'" for lane_type in sorted(RAIL_LANE_TYPES))
+    + "]]"
+)
 
 
 def number(element: etree._Element, attribute: str) -> float | None:

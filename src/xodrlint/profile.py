@@ -14,7 +14,7 @@ import bisect
 import itertools
 import math
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Final
 
 from xodrlint.model import Cubic, Lane, LaneSection, Road
@@ -63,10 +63,13 @@ class Piecewise:
 
     pieces: tuple[Poly, ...]
     zero_before: bool = False
+    starts: tuple[float, ...] = field(init=False, repr=False, compare=False)
+    """The pieces' bases in order, for the bisection in :meth:`piece_at`."""
 
     def __post_init__(self) -> None:
         ordered = tuple(sorted(self.pieces, key=lambda piece: piece.base))
         object.__setattr__(self, "pieces", ordered)
+        object.__setattr__(self, "starts", tuple(piece.base for piece in ordered))
 
     @property
     def defined_from(self) -> float:
@@ -74,10 +77,6 @@ class Piecewise:
         if self.zero_before or not self.pieces:
             return -math.inf
         return self.pieces[0].base
-
-    @property
-    def starts(self) -> list[float]:
-        return [piece.base for piece in self.pieces]
 
     def piece_at(self, s: float) -> Poly | None:
         """The piece that holds from ``s`` on; ``None`` where the function is undefined."""
