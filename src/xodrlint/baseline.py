@@ -11,7 +11,6 @@ from __future__ import annotations
 import json
 from collections import Counter
 from collections.abc import Sequence
-from dataclasses import replace
 from pathlib import Path
 from typing import Final
 
@@ -78,5 +77,5 @@ def apply_baseline(
             else:
                 kept.append(finding)
         suppressed = (*report.suppressed, *withheld) if keep else report.suppressed
-        result.append(replace(report, findings=tuple(kept), suppressed=suppressed))
+        result.append(report._replace(findings=tuple(kept), suppressed=suppressed))
     return result

@@ -13,9 +13,8 @@ import contextlib
 import os
 import sys
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Final
+from typing import TYPE_CHECKING, Final, NamedTuple
 
 from xodrlint.engine import ExternalIgnores, Linter, LintOptions
 from xodrlint.findings import FileReport
@@ -30,8 +29,7 @@ MIN_FILES_FOR_WORKERS: Final = 4
 MIN_FILES_FOR_PROGRESS: Final = 20
 
 
-@dataclass(frozen=True, slots=True)
-class Task:
+class Task(NamedTuple):
     """One file to lint: where it is, how reports name it, what is withheld from outside."""
 
     path: Path

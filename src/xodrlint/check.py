@@ -8,9 +8,9 @@ import os
 import sys
 from collections import Counter
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Final, TextIO
+from types import MappingProxyType
+from typing import Final, NamedTuple, TextIO
 
 from xodrlint import __version__
 from xodrlint.api import STDIN, Input, collect_inputs, default_registry, exit_code
@@ -47,8 +47,7 @@ FULL_VALIDATION_NOTE: Final = (
 )
 
 
-@dataclass(frozen=True)
-class CheckRequest:
+class CheckRequest(NamedTuple):
     """What the command line asked for; ``None`` means "not given" (the config decides)."""
 
     paths: tuple[str, ...]
@@ -63,7 +62,7 @@ class CheckRequest:
     quiet: bool = False
     show_source: bool = False
     stdin_filename: str | None = None
-    rule_options: Mapping[str, float] = field(default_factory=dict)
+    rule_options: Mapping[str, float] = MappingProxyType({})
     config: Path | None = None
     isolated: bool = False
     exclude: tuple[str, ...] | None = None

@@ -12,9 +12,9 @@ import contextlib
 import math
 import re
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Final
+from types import MappingProxyType
+from typing import Final, NamedTuple
 
 from lxml import etree
 
@@ -60,16 +60,15 @@ class OptionError(ValueError):
     """A rule option that no rule declares, or a value the option does not take."""
 
 
-@dataclass(frozen=True)
-class LintOptions:
+class LintOptions(NamedTuple):
     select: tuple[str, ...] = ("ALL",)
     ignore: tuple[str, ...] = ()
-    severity: Mapping[str, Severity] = field(default_factory=dict)
+    severity: Mapping[str, Severity] = MappingProxyType({})
     schema: Path | None = None
     schema_origin: Origin = Origin.OPTION
     keep_source: bool = False
     """Attach the text of each finding's line to the report (for ``--show-source``)."""
-    rule_options: Mapping[str, float] = field(default_factory=dict)
+    rule_options: Mapping[str, float] = MappingProxyType({})
     """Rule option values by option name (``rail-min-width``); the rest keep defaults."""
     keep_suppressed: bool = False
     """Keep withheld findings in the report (SARIF lists them as suppressed)."""
@@ -292,8 +291,7 @@ class Linter:
         return _Stamped(finding, defers_to, hit.element)
 
 
-@dataclass(frozen=True, slots=True)
-class _Stamped:
+class _Stamped(NamedTuple):
     finding: Finding
     defers_to: tuple[str, ...]
     """Codes whose finding on the same element withdraws this one."""

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field
 from enum import StrEnum
 from pathlib import Path
-from typing import TYPE_CHECKING
+from types import MappingProxyType
+from typing import TYPE_CHECKING, NamedTuple
 
 if TYPE_CHECKING:
     from lxml import etree
@@ -28,8 +28,7 @@ class Severity(StrEnum):
 _RANK = {Severity.INFO: 1, Severity.WARNING: 2, Severity.ERROR: 3}
 
 
-@dataclass(frozen=True, slots=True)
-class Hit:
+class Hit(NamedTuple):
     """What a rule yields: the element a defect is about and a message.
 
     ``element`` is ``None`` only where no element exists (a file that does not parse); then
@@ -50,8 +49,7 @@ class Hit:
     defers_to: tuple[str, ...] | None = None
 
 
-@dataclass(frozen=True, slots=True)
-class Location:
+class Location(NamedTuple):
     """Another place a finding points to, for reports that can show it."""
 
     line: int
@@ -61,8 +59,7 @@ class Location:
         return {"line": self.line, "xpath": self.xpath}
 
 
-@dataclass(frozen=True, slots=True)
-class Finding:
+class Finding(NamedTuple):
     """One reported defect, stamped with everything a report needs."""
 
     path: str
@@ -130,8 +127,7 @@ def fingerprints(findings: Iterable[Finding], root: str) -> list[str]:
     return result
 
 
-@dataclass(frozen=True, slots=True)
-class Suppressed:
+class Suppressed(NamedTuple):
     """A finding that a suppression or the baseline withheld, with why."""
 
     finding: Finding
@@ -140,8 +136,7 @@ class Suppressed:
     justification: str = ""
 
 
-@dataclass(frozen=True, slots=True)
-class RuleOption:
+class RuleOption(NamedTuple):
     """A number a user may set for a rule (``--rail-min-width``, ``rail-min-width = ...``).
 
     Options are global by name: rules that share a name share the value.
@@ -164,8 +159,7 @@ class RuleOption:
         }
 
 
-@dataclass(frozen=True, slots=True)
-class RuleMeta:
+class RuleMeta(NamedTuple):
     """What reports need to know about a rule, without its code.
 
     ``doc`` is the rule's doc page (Markdown, from its module docstring); ``summary`` is
@@ -190,8 +184,7 @@ class RuleMeta:
         return (self.uid, *self.aliases)
 
 
-@dataclass(frozen=True, slots=True)
-class FileReport:
+class FileReport(NamedTuple):
     """Everything one file's lint produced, for the formatters.
 
     ``error`` is set when the input could not be read at all (a missing file, a
@@ -208,14 +201,13 @@ class FileReport:
     schema_builtin: bool = False
     error: str | None = None
     internal_errors: tuple[str, ...] = ()
-    source_lines: Mapping[int, str] = field(default_factory=dict)
+    source_lines: Mapping[int, str] = MappingProxyType({})
     """The text of each line a finding is on, when the run asked to show source."""
     suppressed: tuple[Suppressed, ...] = ()
     """Findings withheld by suppressions, kept only when the run asked for them."""
 
 
-@dataclass(frozen=True, slots=True)
-class RunResult:
+class RunResult(NamedTuple):
     """One invocation's results, in input order, with the rule table and notes."""
 
     reports: tuple[FileReport, ...]

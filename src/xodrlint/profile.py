@@ -15,7 +15,7 @@ import itertools
 import math
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
-from typing import Final
+from typing import Final, NamedTuple
 
 from xodrlint.model import Cubic, Lane, LaneSection, Road
 
@@ -23,8 +23,7 @@ from xodrlint.model import Cubic, Lane, LaneSection, Road
 S_TOLERANCE: Final = 1e-6
 
 
-@dataclass(frozen=True, slots=True)
-class Poly:
+class Poly(NamedTuple):
     """``a + b·x + c·x² + d·x³`` with ``x = s - base`` (``base`` an absolute s)."""
 
     base: float
@@ -86,8 +85,7 @@ class Piecewise:
         return Poly(s, 0.0, 0.0, 0.0, 0.0) if self.zero_before else None
 
 
-@dataclass(frozen=True, slots=True)
-class Extremes:
+class Extremes(NamedTuple):
     low: float
     s_low: float
     high: float

@@ -10,9 +10,8 @@ becomes one XS006 hit on the element it is about, with a message from ``xsd_mess
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Final, Protocol
+from typing import Final, NamedTuple, Protocol
 
 from lxml import etree
 
@@ -32,8 +31,7 @@ from xodrlint.xsd_messages import (
 FIRST_RAILROAD_MINOR: Final = 4
 
 
-@dataclass(frozen=True, slots=True)
-class SchemaCheck:
+class SchemaCheck(NamedTuple):
     schema: SchemaSet
     hits: tuple[Hit, ...]
 

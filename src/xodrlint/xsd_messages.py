@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field
-from typing import Final
+from types import MappingProxyType
+from typing import Final, NamedTuple
 
 from lxml import etree
 
@@ -35,12 +35,11 @@ _BUILTIN_TYPES: Final = {
 }
 
 
-@dataclass(frozen=True)
-class TypeCatalog:
+class TypeCatalog(NamedTuple):
     """The named simple types of a schema set, for saying what a type allows."""
 
     types: Mapping[str, etree._Element]
-    identities: Mapping[str, etree._Element] = field(default_factory=dict)
+    identities: Mapping[str, etree._Element] = MappingProxyType({})
 
     @classmethod
     def from_documents(cls, documents: Iterable[etree._Element]) -> TypeCatalog:
@@ -200,8 +199,7 @@ _ABSTRACT: Final = re.compile(r"^The type definition is abstract\.?$")
 CHILD_KINDS: Final = frozenset({"missing_child", "unexpected_element", "unexpected_element_bare"})
 
 
-@dataclass(frozen=True, slots=True)
-class Explained:
+class Explained(NamedTuple):
     message: str
     kind: str
     element: str | None

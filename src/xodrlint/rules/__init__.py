@@ -17,9 +17,8 @@ import pkgutil
 import re
 import sys
 from collections.abc import Callable, Iterable, Iterator, Mapping
-from dataclasses import dataclass
 from types import ModuleType
-from typing import Final
+from typing import Final, NamedTuple
 
 from xodrlint.findings import Hit, RuleMeta, RuleOption, Severity
 from xodrlint.model import RailNetwork
@@ -35,8 +34,7 @@ CODE_PATTERN: Final = re.compile(r"^[A-Z]{2,4}\d{3}$")
 NAME_PATTERN: Final = re.compile(r"^[a-z][a-z0-9]*(?:-[a-z0-9]+)*$")
 
 
-@dataclass(frozen=True, slots=True)
-class Rule:
+class Rule(NamedTuple):
     meta: RuleMeta
     check: ConfiguredCheck
 

@@ -11,10 +11,9 @@ from __future__ import annotations
 import os
 import re
 from collections.abc import Iterator, Mapping
-from dataclasses import dataclass
 from enum import StrEnum
 from pathlib import Path
-from typing import Final
+from typing import Final, NamedTuple
 
 from platformdirs import user_data_path
 
@@ -43,8 +42,7 @@ class Origin(StrEnum):
     BUILTIN = "built-in"
 
 
-@dataclass(frozen=True, slots=True)
-class SchemaSet:
+class SchemaSet(NamedTuple):
     """One set of XSDs for one OpenDRIVE version (or for any, when ``version`` is None)."""
 
     entry: Path
@@ -82,8 +80,7 @@ def user_schema_dir() -> Path:
     return base / "schemas"
 
 
-@dataclass(frozen=True)
-class SchemaFinder:
+class SchemaFinder(NamedTuple):
     """Looks up schema sets in the documented order; one per run, results cached."""
 
     option: Path | None = None

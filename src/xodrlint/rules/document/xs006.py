@@ -41,7 +41,6 @@ missing gives one XS006 (the missing attribute), not a second one for the key.
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import replace
 from typing import Final
 
 from lxml import etree
@@ -81,11 +80,11 @@ def _handed_over(hit: Hit) -> Hit:
     """The hit, told which rule (if any) reports its defect better: only that defect."""
     element = hit.element
     if element is None:
-        return replace(hit, defers_to=())
+        return hit._replace(defers_to=())
     tag = etree.QName(element).localname
     codes = TAKEN_OVER_BY.get((hit.kind, tag))
     if codes is not None:
-        return replace(hit, defers_to=codes)
+        return hit._replace(defers_to=codes)
     if hit.kind in CHILD_KINDS:
         # libxml2 reports a station holding only userData on the userData; the defect
         # is the station's missing platform, so the finding moves to the station
@@ -94,5 +93,5 @@ def _handed_over(hit: Hit) -> Hit:
         if owner is not None and owner_tag in REQUIRED_CHILD:
             child, code = REQUIRED_CHILD[owner_tag]
             if next(owner.iterchildren(child), None) is None:
-                return replace(hit, element=owner, defers_to=(code,))
-    return replace(hit, defers_to=())
+                return hit._replace(element=owner, defers_to=(code,))
+    return hit._replace(defers_to=())

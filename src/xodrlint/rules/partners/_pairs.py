@@ -3,13 +3,12 @@
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass
+from typing import NamedTuple
 
 from xodrlint.model import PartnerRef, RailNetwork, Switch
 
 
-@dataclass(frozen=True, slots=True)
-class PartnerPair:
+class PartnerPair(NamedTuple):
     first: Switch
     """The earlier switch of the pair in document order."""
     later: Switch
