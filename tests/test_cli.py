@@ -6,8 +6,10 @@ import hashlib
 import json
 import os
 import re
+import stat
 import subprocess
 import sys
+import threading
 import zipfile
 from pathlib import Path
 from typing import Any
@@ -213,6 +215,31 @@ def test_output_writes_the_report_to_a_file(tmp_path: Path, output_format: str) 
     else:
         assert f"{BROKEN}:30: XS006 [error]" in written
     assert [p.name for p in tmp_path.iterdir()] == ["report.out"]  # no temp file left
+
+
+def test_output_to_a_fifo_writes_into_it_and_leaves_it_a_fifo(tmp_path: Path) -> None:
+    # a rename over a device or a FIFO would leave a regular file in its place (as root,
+    # `-o /dev/null` replaced the machine's /dev/null)
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    received: list[bytes] = []
+    reader = threading.Thread(target=lambda: received.append(fifo.read_bytes()))
+    reader.start()
+    cli("check", BROKEN, "-f", "json", "-o", fifo, code=1)
+    reader.join(timeout=30)
+    assert stat.S_ISFIFO(fifo.lstat().st_mode)
+    jsonschema.validate(json.loads(received[0]), OUTPUT_SCHEMA)
+
+
+def test_output_through_a_symlink_replaces_the_file_it_names(tmp_path: Path) -> None:
+    (tmp_path / "reports").mkdir()
+    real = tmp_path / "reports" / "latest.json"
+    real.write_text("old", "utf-8")
+    link = tmp_path / "report.json"
+    link.symlink_to(real)
+    cli("check", BROKEN, "-f", "json", "-o", link, code=1)
+    assert link.is_symlink()
+    jsonschema.validate(json.loads(real.read_text("utf-8")), OUTPUT_SCHEMA)
 
 
 @pytest.mark.parametrize("as_folder", [False, True])

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import stat
 import sys
 import tempfile
 from collections.abc import Callable
@@ -18,12 +19,27 @@ def error_line(message: str) -> None:
 
 
 def write_output(output: str | None, render: Render) -> None:
-    """Render to stdout, or to ``output`` whole: a temp file beside it, then a rename."""
+    """Render to stdout, or to ``output`` whole: a temp file beside it, then a rename.
+
+    A target that is no regular file (``/dev/null``, ``/dev/stdout``, a FIFO) is written in
+    place: renaming over it would put a regular file where the device was, and with root
+    rights that replaces ``/dev/null`` for the whole machine. A symlink keeps pointing
+    where it did: the file it names is the one replaced.
+    """
     if output in (None, STDOUT):
         render(sys.stdout)
         sys.stdout.flush()
         return
     target = Path(output)
+    try:
+        is_regular = stat.S_ISREG(target.stat().st_mode)
+    except FileNotFoundError:
+        is_regular = True
+    if not is_regular:
+        with target.open("w", encoding="utf-8", newline="\n") as stream:
+            render(stream)
+        return
+    target = target.resolve() if target.is_symlink() else target
     handle, temporary = tempfile.mkstemp(prefix=f".{target.name}.", dir=target.parent or ".")
     try:
         with os.fdopen(handle, "w", encoding="utf-8", newline="\n") as stream:
