@@ -16,7 +16,7 @@ from xodrlint import plugins
 def test_cache_is_written_then_used(tmp_path: Path) -> None:
     first = plugins.installed("xodrlint.rules")
     assert {p.name for p in first} >= {"document", "switches", "partners", "stations", "lanes"}
-    cached = json.loads((plugins.cache_dir() / plugins.CACHE_NAME).read_text("utf-8"))
+    cached = json.loads((plugins.cache_path()).read_text("utf-8"))
     assert cached["groups"]["xodrlint.rules"]
     # a process like the last one reads the cache and never imports importlib.metadata
     # (pytest's own sys.path differs from a plain interpreter's: run two of those)
@@ -38,7 +38,7 @@ def test_a_changed_environment_is_scanned_again(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     plugins.installed("xodrlint.rules")
-    path = plugins.cache_dir() / plugins.CACHE_NAME
+    path = plugins.cache_path()
     stale = json.loads(path.read_text("utf-8"))
     stale["groups"]["xodrlint.rules"] = [["ghost", "nowhere:nothing"]]
     path.write_text(json.dumps(stale), "utf-8")
@@ -58,3 +58,10 @@ def test_plugin_load_resolves_module_and_attribute() -> None:
     loaded = plugins.Plugin("x", "xodrlint.plugins:Plugin.load", "g").load()
     assert loaded is plugins.Plugin.load
     assert plugins.Plugin("x", "xodrlint.plugins", "g").load() is plugins
+
+
+def test_each_environment_has_a_cache_file_of_its_own(monkeypatch: pytest.MonkeyPatch) -> None:
+    here = plugins.cache_path()
+    monkeypatch.setattr(sys, "prefix", "/opt/another-venv")
+    assert plugins.cache_path().parent == here.parent
+    assert plugins.cache_path() != here

@@ -4,7 +4,9 @@ Importing ``importlib.metadata`` and scanning every installed distribution costs
 40 ms, a fifth of a pre-commit run on a small map. The entry points of xodrlint's groups
 are therefore kept in the user cache folder, keyed by the modification times of the
 folders on ``sys.path``: installing or removing a package changes its folder, so the
-next run scans again. Without a usable cache folder every run scans.
+next run scans again. Without a usable cache folder every run scans. Each environment
+(a project's venv, pre-commit's own) has a file of its own, so two of them used in turn
+do not rewrite one file on every run.
 """
 
 from __future__ import annotations
@@ -15,12 +17,12 @@ import json
 import os
 import sys
 import tempfile
+import zlib
 from pathlib import Path
 from typing import Final, NamedTuple
 
 GROUPS: Final = ("xodrlint.rules", "xodrlint.formatters")
 CACHE_ENV: Final = "XODRLINT_CACHE_DIR"
-CACHE_NAME: Final = "entry-points.json"
 FORMAT: Final = 1
 
 
@@ -49,10 +51,16 @@ def cache_dir() -> Path:
     return user_cache_path("xodrlint")
 
 
+def cache_path() -> Path:
+    """This environment's cache file."""
+    environment = zlib.crc32(os.fsencode(sys.prefix))
+    return cache_dir() / f"entry-points-{environment:08x}.json"
+
+
 def installed(group: str) -> list[Plugin]:
     """The entry points of ``group`` that installed distributions declare."""
     key = _environment_key()
-    path = cache_dir() / CACHE_NAME
+    path = cache_path()
     with contextlib.suppress(OSError, ValueError, TypeError, KeyError):
         cached = json.loads(path.read_text(encoding="utf-8"))
         if cached["format"] == FORMAT and cached["key"] == key:
