@@ -19,7 +19,7 @@ from xodrlint import xsd11_fast
 from xodrlint.document import Document, load_bytes
 from xodrlint.findings import Hit
 from xodrlint.schema import Libxml2Validator, SchemaValidators
-from xodrlint.schemas import SchemaFinder, SchemaSet
+from xodrlint.schemas import SchemaFinder, SchemaLoadError, SchemaSet
 from xodrlint.xsd11 import Xsd11Validator
 from xodrlint.xsd11_fast import FastXsd11Validator, derive_xsd10, xsd10_form, xsd11_validator
 from xodrlint.xsd_messages import XS
@@ -576,6 +576,7 @@ def test_the_second_compile_reuses_the_cached_form(
 ) -> None:
     first = xsd11_validator(_entry("1.8.0"), Libxml2Validator)
     assert isinstance(first, FastXsd11Validator) and first.form.cached
+    assert first.form.schema_checked  # later builds of these files skip the meta-schema
     folders = list((cache / "xsd10").iterdir())
     assert [f.name for f in folders] == [first.form.key]
     written = {p: p.stat().st_mtime_ns for p in folders[0].iterdir()}
@@ -683,6 +684,21 @@ def test_sets_the_xsd10_form_cannot_stand_in_for_are_validated_in_full(
         assert form.entry is None and any(why in item for item in form.unsupported)
     if why != "dateTimeStamp":  # xmlschema itself cannot build that one here
         assert isinstance(xsd11_validator(tmp_path / "set.xsd", Libxml2Validator), Xsd11Validator)
+
+
+def test_a_set_with_a_broken_assertion_is_never_built_unchecked(
+    cache: Path, tmp_path: Path
+) -> None:
+    # xmlschema's unchecked build would turn the broken XPath into an assertion that
+    # always holds: the form records that the strict build failed, and the fast path
+    # builds strictly, so the error surfaces
+    broken = XSD11_SCHEMA.format(extra="").replace("@a gt 0", "@a gt (")
+    (tmp_path / "set.xsd").write_text(broken)
+    validator = xsd11_validator(tmp_path / "set.xsd", Libxml2Validator)
+    assert isinstance(validator, FastXsd11Validator) and not validator.form.schema_checked
+    doc = load_bytes(b'<OpenDRIVE a="-1"><header/></OpenDRIVE>', "a.xodr")
+    with pytest.raises(SchemaLoadError):
+        list(validator.hits(doc))
 
 
 @pytest.mark.parametrize("child", ["forked", "dies"])
