@@ -2,14 +2,17 @@
 
 from __future__ import annotations
 
+import gc
 import sys
 import textwrap
+import weakref
 from collections.abc import Iterator
 from importlib.metadata import EntryPoint
 from pathlib import Path
 
 import pytest
 
+from xodrlint.document import Document
 from xodrlint.engine import Linter, LintOptions, SelectorError, select_rules
 from xodrlint.findings import Hit, Severity
 from xodrlint.model import RailNetwork
@@ -142,3 +145,26 @@ def test_unreadable_path_is_a_report_error_not_a_finding(tmp_path: Path) -> None
     report = Linter(load_registry([BUILTIN_POINT])).lint_path(tmp_path / "missing.xodr")
     assert report.findings == () and report.error is not None
     assert "no such file" in report.error.lower()
+
+
+@pytest.mark.parametrize("keep", [False, True])
+def test_a_linter_keeps_only_the_last_document_and_only_when_asked(
+    monkeypatch: pytest.MonkeyPatch, keep: bool
+) -> None:
+    # a process that exits without cleanup (the CLI) never pays for freeing the last tree
+    from xodrlint import document, engine
+
+    loaded: list[weakref.ref[Document]] = []
+
+    def load_bytes(data: bytes, path: str) -> Document:
+        doc = real_load(data, path)
+        loaded.append(weakref.ref(doc))
+        return doc
+
+    real_load = document.load_bytes
+    monkeypatch.setattr(engine, "load_bytes", load_bytes)
+    linter = Linter(load_registry(), keep_last_document=keep)
+    for _ in range(2):
+        linter.lint_path(REPO / "examples" / "clean.xodr")
+    gc.collect()
+    assert [ref() is not None for ref in loaded] == [False, keep]

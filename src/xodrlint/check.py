@@ -194,7 +194,8 @@ def _linter(registry: Registry, settings: Settings, request: CheckRequest) -> Li
         keep_suppressed=request.show_suppressed,
         warn_unused_suppressions=settings.warn_unused_suppressions,
     )
-    return Linter(registry, options)
+    # the command line exits without cleanup (cli.main): it never frees the last tree
+    return Linter(registry, options, keep_last_document=True)
 
 
 def _formatter(name: str, request: CheckRequest) -> Formatter:

@@ -133,9 +133,20 @@ def _specificity(token: str, candidate: Rule) -> int | None:
 class Linter:
     """Lints documents with one set of options; schemas are compiled once and reused."""
 
-    def __init__(self, registry: Registry, options: LintOptions | None = None) -> None:
+    def __init__(
+        self,
+        registry: Registry,
+        options: LintOptions | None = None,
+        *,
+        keep_last_document: bool = False,
+    ) -> None:
         self.registry = registry
         self.options = options or LintOptions()
+        # Freeing a 20 MB map's tree takes half a second. A process that exits without
+        # cleanup (the CLI) keeps the last document alive and never pays it; each lint
+        # replaces it, so at most one extra document is held.
+        self._keep_last_document = keep_last_document
+        self._last_document: Document | None = None
         self.rules = select_rules(registry, self.options.select, self.options.ignore)
         self._codes = {r.code for r in self.rules}
         self._settings = resolve_rule_options(registry, self.options.rule_options)
@@ -179,6 +190,7 @@ class Linter:
         """Lint one document; ``external`` withholds codes in it from outside the file
         (``per-file-ignores``): (selector, justification) pairs."""
         doc = load_bytes(data, path)
+        self._last_document = doc if self._keep_last_document else None
         problems: dict[str, list[Hit]] = {code: list(hits) for code, hits in doc.problems.items()}
         schema_label, builtin = None, False
         fatal = any(code in problems for code in FATAL_CODES)
