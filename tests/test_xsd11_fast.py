@@ -104,6 +104,8 @@ def _same_findings(pair: Pair, data: bytes, name: str) -> set[Seen]:
     before = etree.tostring(doc.tree)
     fast, fast_worded = _seen(doc, list(pair.fast.hits(doc)))
     assert etree.tostring(doc.tree) == before, "the fast path left the tree changed"
+    first, finish = pair.fast.stages(doc)  # as a forked child and its parent run it
+    assert _seen(doc, finish(first())) == (fast, fast_worded), name
     full, full_worded = _seen(doc, list(pair.full.hits(doc)))
     assert fast == full, (name, sorted(full - fast), sorted(fast - full))
     assert fast_worded == full_worded, name
@@ -699,6 +701,40 @@ def test_a_set_with_a_broken_assertion_is_never_built_unchecked(
     doc = load_bytes(b'<OpenDRIVE a="-1"><header/></OpenDRIVE>', "a.xodr")
     with pytest.raises(SchemaLoadError):
         list(validator.hits(doc))
+
+
+@pytest.mark.parametrize(
+    ("parts", "split"), [({}, True), (ALTERNATIVE_CASES["junction", ""], False)]
+)
+def test_the_first_stage_needs_no_xmlschema_model_where_no_alternative_can_apply(
+    cache: Path, monkeypatch: pytest.MonkeyPatch, parts: dict[str, str], split: bool
+) -> None:
+    # the first stage runs in a forked child beside the rules; without type marks to set
+    # it is libxml2 alone, and the slow model is built by the parent after its rules
+    validator = xsd11_validator(_entry("1.9.0"), Libxml2Validator)
+    assert isinstance(validator, FastXsd11Validator)
+    assert validator.form.alternative_sites == frozenset(
+        {
+            ("OpenDRIVE", "junction"),
+            ("junction", "connection"),
+            ("boundary", "segment"),
+        }
+    )
+    doc = load_bytes(_document("1.9.0", parts), "stages.xodr")
+    first, finish = validator.stages(doc)
+    model = validator.model
+
+    def no_model() -> Any:
+        raise AssertionError("the first stage built the model")
+
+    monkeypatch.setattr(validator, "model", no_model)
+    if split:
+        raw = first()
+        monkeypatch.setattr(validator, "model", model)
+        assert finish(raw) == raw == []
+    else:
+        with pytest.raises(AssertionError, match="built the model"):
+            first()
 
 
 @pytest.mark.parametrize("child", ["forked", "dies"])

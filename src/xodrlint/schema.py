@@ -68,9 +68,13 @@ class SchemaValidators:
             return Pending(lambda: None)
         validator = self._validator(schema)  # compiled here, so a child inherits it
         root = doc.tree.getroot()
-        # the whole validation, XSD 1.1 checks included, runs in the child
-        hits = background.start_hits(lambda: list(validator.hits(doc)), root, len(doc.data))
-        return Pending(lambda: SchemaCheck(schema, tuple(hits.result())))
+        # A validator that splits its work (libxml2, then XSD 1.1 checks that need a slow
+        # xmlschema model) has the child run the first part only: the caller finishes the
+        # rest after its rules, so both cores stay busy.
+        split = getattr(validator, "stages", None)
+        first, finish = split(doc) if split else ((lambda: list(validator.hits(doc))), list)
+        hits = background.start_hits(first, root, len(doc.data))
+        return Pending(lambda: SchemaCheck(schema, tuple(finish(hits.result()))))
 
     def check(self, doc: Document) -> SchemaCheck | None:
         """Validate ``doc``; ``None`` when it has no readable version to pick a schema by."""

@@ -26,6 +26,12 @@ in element, line, XPath and kind; a test proves it on the corpus and on mutated 
    does a file with an ``xsi:type`` or ``xsi:nil`` of its own, or a ``+INF`` (a number
    in XSD 1.1, not in XSD 1.0).
 
+4. **Two stages for a forked child** (:meth:`FastXsd11Validator.stages`): the form's
+   cache also records, from one strict xmlschema build of the set, where an element
+   with type alternatives can stand. A document with no element there needs no type
+   marks, so libxml2 runs alone in the child while the caller builds the xmlschema
+   model (with the meta-schema check that strict build made once) after its rules.
+
 Messages of libxml2's errors come from ``xsd_messages`` (as for OpenDRIVE 1.7), those of
 the 1.1-only checks and of the recovered subtrees from xmlschema's reasons (as in full
 validation); key, keyref, assertion, missing-attribute and enumeration messages read the
@@ -118,6 +124,10 @@ _XSD11_READING: Final = (
 _PREFIXED_TYPE_OR_NIL: Final = re.compile(rb":(?:type|nil)\s*=")
 
 
+#: The second part of a split validation: the first part's hits in, the findings out.
+Finish = Callable[[list[Hit]], list[Hit]]
+
+
 class HitSource(Protocol):
     """A compiled libxml2 validator (``schema.Libxml2Validator``, a layer above)."""
 
@@ -191,6 +201,9 @@ class Derivation:
     schema_checked: bool = False
     """xmlschema built the source set in strict mode (its documents checked against the
     XSD meta-schema, every XPath compiled) without an error."""
+    alternative_sites: list[list[str]] | None = None
+    """Where an element with type alternatives can stand, as [parent tag, tag] pairs
+    (parent "" for the root), read off that strict build; ``None`` when unknown."""
 
     def note(self, problem: str) -> None:
         if problem not in self.unsupported:
@@ -330,6 +343,9 @@ class Xsd10Form:
     schema_checked: bool = False
     """The source set passed xmlschema's strict build when the form was derived: later
     builds of the same files (same key) may skip that check, which is 80% of their cost."""
+    alternative_sites: frozenset[tuple[str, str]] | None = None
+    """(parent tag, tag) of every element that may have type alternatives ("" for the
+    root's parent); ``None`` when the strict build did not run."""
 
 
 @contextlib.contextmanager
@@ -351,7 +367,7 @@ def xsd10_form(entry: Path) -> Iterator[Xsd10Form]:
     written = None
     with contextlib.suppress(OSError):
         cache_dir().mkdir(parents=True, exist_ok=True)  # no cache, no point in checking
-        derivation.schema_checked = _strict_build_succeeds(entry)
+        _check_strictly(entry, derivation)
         _write_form(folder, source, derivation)
         written = _read_form(folder, source, key)
     if written is not None:
@@ -384,17 +400,53 @@ def _read_form(
         unsupported=unsupported,
         cached=cached,
         schema_checked=manifest.get("schema_checked") is True,
+        alternative_sites=_sites_of(manifest.get("alternative_sites")),
     )
 
 
-def _strict_build_succeeds(entry: Path) -> bool:
+def _sites_of(value: object) -> frozenset[tuple[str, str]] | None:
+    if not isinstance(value, list):
+        return None
+    pairs = [item for item in value if isinstance(item, list) and len(item) == 2]
+    if len(pairs) != len(value) or not all(isinstance(n, str) for pair in pairs for n in pair):
+        return None
+    return frozenset((parent, tag) for parent, tag in pairs)
+
+
+def _check_strictly(entry: Path, derivation: Derivation) -> None:
+    """Build the source set strictly once, and note what later runs may rely on."""
     from xodrlint.xsd11 import Xsd11Validator
 
     try:
-        Xsd11Validator(entry)
+        schema = Xsd11Validator(entry).schema
     except SchemaLoadError:
-        return False
-    return True
+        return
+    derivation.schema_checked = True
+    derivation.alternative_sites = sorted([*site] for site in _alternative_sites(schema))
+
+
+def _alternative_sites(schema: Any) -> set[tuple[str, str]]:
+    """(parent tag, tag) of every declaration with type alternatives, found by walking the
+    content models down from the global elements (through every alternative type too)."""
+    sites: set[tuple[str, str]] = set()
+    seen: set[int] = set()
+    pending: list[tuple[str, Any]] = [("", d) for d in schema.elements.values()]
+    while pending:
+        parent, declaration = pending.pop()
+        if declaration.alternatives:
+            sites.add((parent, declaration.local_name))
+        if id(declaration) in seen:
+            continue
+        seen.add(id(declaration))
+        types = (declaration.type, *(a.type for a in declaration.alternatives))
+        for xsd_type in types:
+            content = getattr(xsd_type, "content", None)
+            if content is None or not hasattr(content, "iter_elements"):
+                continue
+            for child in content.iter_elements():
+                if getattr(child, "local_name", None) and hasattr(child, "alternatives"):
+                    pending.append((declaration.local_name, child))
+    return sites
 
 
 def _write_form(folder: Path, source: SchemaSource, derivation: Derivation) -> None:
@@ -426,6 +478,7 @@ def _write_files(folder: Path, source: SchemaSource, derivation: Derivation) -> 
         "alternatives": derivation.alternatives,
         "unsupported": derivation.unsupported,
         "schema_checked": derivation.schema_checked,
+        "alternative_sites": derivation.alternative_sites,
     }
     (folder / MANIFEST).write_text(json.dumps(manifest, indent=1), "utf-8")
 
@@ -646,6 +699,30 @@ class FastXsd11Validator:
             found = list(self.full.hits(doc))
         yield from found
 
+    def stages(self, doc: Document) -> tuple[Callable[[], list[Hit]], Finish]:
+        """The validation in two parts, for a caller that runs the first one elsewhere (a
+        forked child) while it does other work: libxml2 first, then the 1.1-only checks on
+        libxml2's hits. Split only when libxml2 needs no type marks, so the first part
+        needs no xmlschema model: no element of the document stands where the schema
+        allows type alternatives. Otherwise all of it is the first part."""
+        assert doc.tree is not None
+        root = doc.tree.getroot()
+        sites = self.form.alternative_sites
+        if sites is None or self._unsupported is not None or _holds_a_site(root, sites):
+            return (lambda: list(self.hits(doc))), list
+        return (lambda: list(self._libxml2.hits(doc))), lambda raw: self._finish(doc, raw)
+
+    def _finish(self, doc: Document, raw: list[Hit]) -> list[Hit]:
+        assert doc.tree is not None
+        root = doc.tree.getroot()
+        try:
+            model, plan = self._prepare(doc, root)
+            if plan.marks:  # the sites say this cannot be; if it is, validate with them
+                return list(self._fast_hits(doc))
+            return list(self._checked(root, model, plan, raw))
+        except _NeedsFull:
+            return list(self.full.hits(doc))
+
     def _prepare(self, doc: Document, root: etree._Element) -> tuple[_Model | None, _Plan]:
         if self._unsupported is not None:
             raise _NeedsFull(self._unsupported)
@@ -736,6 +813,15 @@ class FastXsd11Validator:
         if not any(inside.holds(node) for node in identities.all_selected()):
             return None
         return identities
+
+
+def _holds_a_site(root: etree._Element, sites: frozenset[tuple[str, str]]) -> bool:
+    for parent, tag in sites:
+        for element in root.iter(tag):
+            above = element.getparent()
+            if (above.tag if above is not None else "") == parent:
+                return True
+    return False
 
 
 def _needs_xsd11_reading(doc: Document, root: etree._Element) -> bool:
