@@ -120,7 +120,8 @@ def _overrides(request: CheckRequest) -> dict[str, object]:
     }
 
 
-def run_check(request: CheckRequest) -> int:
+def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
+    """Run a check; ``formatter`` replaces the one the output format names (``qc``)."""
     registry = default_registry()
     for warning in registry.warnings:
         error_line(f"warning: {warning}")
@@ -134,7 +135,7 @@ def run_check(request: CheckRequest) -> int:
             overrides=_overrides(request),
         )
         linter = _linter(registry, settings, request)
-        formatter = _formatter(settings.output_format, request)
+        formatter = formatter or _formatter(settings.output_format, request)
         inputs = list(collect_inputs(request.paths, _excluder(settings)))
         _check_output_target("--output", request.output, inputs)
         if request.write_baseline is not None:
@@ -165,7 +166,14 @@ def run_check(request: CheckRequest) -> int:
 
         reports = apply_baseline(reports, recorded, root, keep=request.show_suppressed)
     metas = registry.metas + ((UNUSED_META,) if settings.warn_unused_suppressions else ())
-    result = RunResult(tuple(reports), metas, __version__, notes=run_notes(reports), root=root)
+    result = RunResult(
+        tuple(reports),
+        metas,
+        __version__,
+        notes=run_notes(reports),
+        root=root,
+        selected=tuple(rule.code for rule in linter.rules),
+    )
     try:
         if request.statistics:
             write_output(request.output, lambda stream: _statistics(result, stream))

@@ -81,7 +81,7 @@ def check(
         typer.Option(
             "--output-format",
             "-f",
-            help="text, concise, json, sarif, github, gitlab or junit (or a plugin's format).",
+            help="text, concise, json, sarif, github, gitlab, junit or xqar (or a plugin's format).",
             rich_help_panel=_OUTPUT,
         ),
     ] = None,
@@ -284,6 +284,30 @@ def _named_options(entries: list[str]) -> dict[str, float]:
         if not sign or not name.strip():
             _fail(f"--rule-option {entry}: expected NAME=NUMBER")
     return values
+
+
+@app.command("qc")
+def qc_command(
+    input_file: Annotated[
+        str | None, typer.Argument(help="The file to check, when no configuration names it.")
+    ] = None,
+    config: Annotated[
+        Path | None,
+        typer.Option("--config", "-c", help="The ASAM Quality Checker configuration (XML)."),
+    ] = None,
+    output: Annotated[
+        str | None,
+        typer.Option("--output", "-o", help="The result file (default: the configuration's)."),
+    ] = None,
+    manifest: Annotated[
+        str | None,
+        typer.Option(help="Write the framework's module manifest for xodrlint here and stop."),
+    ] = None,
+) -> None:
+    """Run as a checker bundle of the ASAM Quality Checker framework (writes XQAR)."""
+    from xodrlint.qc import run_qc
+
+    raise typer.Exit(run_qc(config, input_file, output, manifest))
 
 
 @app.command("config")

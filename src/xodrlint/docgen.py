@@ -109,6 +109,9 @@ FORMAT_NOTES: Final = {
     "github": "GitHub Actions workflow commands: annotations on the pull request.",
     "gitlab": "GitLab Code Quality: the merge request widget and diff annotations.",
     "junit": "JUnit XML: one test suite per file, for GitLab's and Jenkins' test reports.",
+    "xqar": "The ASAM Quality Checker framework's result file (see "
+    "[qc-framework.md](qc-framework.md)). Shown here: the bundle and the checkers with "
+    "issues; the real file has a checker for every rule, each addressing its rule UIDs.",
 }
 
 
@@ -140,14 +143,37 @@ def formats_page(root: Path) -> str:
         stream = io.StringIO()
         get_formatter(name).render(result, stream)
         text = stream.getvalue().replace(Path(root).as_uri() + "/", SHOWN_ROOT)
-        language = {"json": "json", "sarif": "json", "gitlab": "json", "junit": "xml"}
+        language = {
+            "json": "json",
+            "sarif": "json",
+            "gitlab": "json",
+            "junit": "xml",
+            "xqar": "xml",
+        }
         if name == "sarif":
             run = json.loads(text)["runs"][0]
             shown = {"results": run["results"], "invocations": run["invocations"]}
             text = json.dumps(shown, indent=2, ensure_ascii=False) + "\n"
+        if name == "xqar":
+            text = _xqar_excerpt(text)
         lines += [f"## `{name}`", "", note, "", f"```{language.get(name, 'text')}"]
         lines += [text.rstrip("\n"), "```", ""]
     return "\n".join(lines).rstrip("\n") + "\n"
+
+
+def _xqar_excerpt(text: str) -> str:
+    """The bundle and its checkers with issues; the day of the run made a placeholder."""
+    import re
+
+    from lxml import etree
+
+    root = etree.fromstring(text.encode())
+    for checker in root.iter("Checker"):
+        if checker.find("Issue") is None:
+            checker.getparent().remove(checker)  # type: ignore[union-attr]
+    etree.indent(root, space="  ")
+    shown = etree.tostring(root, encoding="unicode")
+    return re.sub(r'build_date="[^"]*"', 'build_date="YYYY-MM-DD"', shown)
 
 
 def main() -> int:

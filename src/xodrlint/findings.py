@@ -217,6 +217,8 @@ class RunResult(NamedTuple):
     root: str = "."
     """The folder paths are reported relative to (SARIF's ``%SRCROOT%``): the working
     folder of the run."""
+    selected: tuple[str, ...] | None = None
+    """Codes of the rules that ran; ``None`` when not known (then all of them did)."""
 
     @property
     def findings(self) -> tuple[Finding, ...]:

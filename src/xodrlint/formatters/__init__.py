@@ -26,6 +26,7 @@ BUILTIN: Final = {
     "gitlab": "xodrlint.formatters.gitlab:GitlabFormatter",
     "junit": "xodrlint.formatters.junit:JunitFormatter",
     "sarif": "xodrlint.formatters.sarif:SarifFormatter",
+    "xqar": "xodrlint.formatters.xqar:XqarFormatter",
 }
 
 
