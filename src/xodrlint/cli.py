@@ -81,7 +81,7 @@ def check(
         typer.Option(
             "--output-format",
             "-f",
-            help="text, concise, json, sarif, github, gitlab, junit or xqar (or a plugin's format).",
+            help="text, concise, json, sarif, github, gitlab, junit, xqar, or a plugin's.",
             rich_help_panel=_OUTPUT,
         ),
     ] = None,

@@ -1017,10 +1017,11 @@ def _assertion_errors(
     text = element.text if xsd_type.has_simple_content() else None
     outcome: list[tuple[Any, str]] = []
     if group.pruned:
-        copy = _pruned(element, group.elements, group.attributes)
-        key = (id(xsd_type), etree.tostring(copy), text)
+        kept = _kept_nodes(element, group.elements)
+        key = (id(xsd_type), _signature(element, kept, group.attributes), text)
         shared = memo.get(key)
         if shared is None:
+            copy = _pruned(element, kept, group.attributes)
             shared = memo[key] = _evaluate(group.pruned, _xpath_node(copy), text)
         outcome.extend(shared)
     if group.whole:
@@ -1054,11 +1055,8 @@ def _evaluate(assertions: Sequence[Any], node: Any, text: str | None) -> list[tu
     return failed
 
 
-def _pruned(
-    element: etree._Element, elements: Sequence[str], attributes: frozenset[str]
-) -> etree._Element:
-    """A copy of ``element`` with only the named descendants (and the elements on the way
-    to them) and only the named attributes: all an assertion of :class:`_Names` sees."""
+def _kept_nodes(element: etree._Element, elements: Sequence[str]) -> set[etree._Element]:
+    """The descendants named ``elements`` and the elements on the way to them."""
     keep: set[etree._Element] = set()  # the proxies themselves: their ids stay unique
     if elements:
         for found in element.iter(*elements):
@@ -1066,6 +1064,28 @@ def _pruned(
                 if node is element or node in keep:
                     break
                 keep.add(node)
+    return keep
+
+
+def _signature(
+    element: etree._Element, keep: set[etree._Element], attributes: frozenset[str]
+) -> tuple[Any, ...]:
+    """What the pruned copy of ``element`` holds, as a key: equal keys, equal copies.
+    Building it costs a third of building the copy, which is made only for a new key."""
+    values = tuple(element.get(name) for name in sorted(attributes))
+    children = tuple(
+        _signature(child, keep, attributes)
+        for child in element.iterchildren(etree.Element)
+        if child in keep
+    )
+    return (element.tag, values, children)
+
+
+def _pruned(
+    element: etree._Element, keep: set[etree._Element], attributes: frozenset[str]
+) -> etree._Element:
+    """A copy of ``element`` with only the ``keep`` descendants and only the named
+    attributes: all an assertion of :class:`_Names` sees."""
 
     def copy(source: etree._Element) -> etree._Element:
         target = etree.Element(source.tag)
