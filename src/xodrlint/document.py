@@ -31,6 +31,10 @@ def hardened_parser() -> etree.XMLParser:
     No entity expansion (billion laughs, external entities), no DTD loading, no network,
     no XInclude (lxml only processes it on request, and we never request it). Comments and
     processing instructions are kept: inline suppressions live in comments.
+
+    ``collect_ids`` stays at its default on purpose: lxml turns ``collect_ids=False`` into
+    a libxml2 flag that makes it load the external DTD a file names, ``load_dtd=False``
+    notwithstanding (a local file read, a hang on a FIFO).
     """
     return etree.XMLParser(
         resolve_entities=False,
@@ -38,7 +42,6 @@ def hardened_parser() -> etree.XMLParser:
         dtd_validation=False,
         no_network=True,
         huge_tree=False,
-        collect_ids=False,
         remove_comments=False,
         remove_pis=False,
     )
@@ -152,10 +155,58 @@ def _syntax_error_hit(error: etree.XMLSyntaxError, log: etree._ListErrorLog) -> 
         line, column = error.position
         message = error.msg or "not well-formed XML"
     message = _LIBXML2_POSITION_SUFFIX.sub("", message.strip()).rstrip(".")
-    return Hit(None, _lowercase_first(message), line=max(line, 1), column=column or None)
+    return Hit(None, _readable(message), line=max(line, 1), column=column or None)
 
 
 _LIBXML2_POSITION_SUFFIX: Final = re.compile(r",\s*line \d+, column \d+$")
+# libxml2 tells a programmer which parser option lifts a limit; a user can do nothing
+# with that, and lifting it is exactly what a hostile file wants.
+_LIBXML2_OPTION_HINT: Final = re.compile(
+    r"[,;:]?\s*(?:try|use|see)\s+(?:XML_PARSE_HUGE|xml[A-Z]\w+)(?:\s+option)?", re.IGNORECASE
+)
+_PARSER_LIMITS: Final = (
+    "excessive depth",
+    "amplification",
+    "limit exceeded",
+    "too long",
+    "too big",
+    "huge input",
+)
+#: Parser messages quote the offending text; past this length the quote is cut.
+MAX_MESSAGE_LENGTH: Final = 200
+
+
+def _readable(message: str) -> str:
+    """One printable line a user can act on, however odd the text libxml2 quotes."""
+    limit_hit = _LIBXML2_OPTION_HINT.search(message) is not None or any(
+        word in message.lower() for word in _PARSER_LIMITS
+    )
+    message = _LIBXML2_OPTION_HINT.sub("", message)
+    message = one_line(" ".join(message.split()))  # a quoted comment may span lines
+    if len(message) > MAX_MESSAGE_LENGTH:
+        message = message[: MAX_MESSAGE_LENGTH - 1] + "\u2026"
+    if limit_hit:
+        message += " (refused: a safety limit of the XML parser)"
+    return _lowercase_first(message)
+
+
+def one_line(text: str) -> str:
+    """``text`` with what is not printable (line breaks, control characters) escaped as
+    ``\\x85``, ``\\u2028``: a message stays one line and cannot steer a terminal."""
+    if text.isprintable():
+        return text
+    return "".join(char if char.isprintable() else _escaped(char) for char in text)
+
+
+def _escaped(char: str) -> str:
+    code = ord(char)
+    return (
+        f"\\x{code:02x}"
+        if code < 0x100
+        else f"\\u{code:04x}"
+        if code < 0x10000
+        else f"\\U{code:08x}"
+    )
 
 
 def _lowercase_first(text: str) -> str:
