@@ -198,26 +198,18 @@ def test_max_file_size_in_the_config(tmp_path: Path) -> None:
     assert bad.returncode == 2 and "'max-file-size' must be a positive size" in bad.stderr
 
 
-def test_closed_stdin_is_one_line() -> None:
+def shell(command: str) -> subprocess.CompletedProcess[str]:
+    """``command`` run by the shell: for redirections subprocess cannot express."""
     if not CONSOLE_SCRIPT.is_file():
         pytest.skip(f"no console script at {CONSOLE_SCRIPT}")
-    done = subprocess.run(
-        [str(CONSOLE_SCRIPT), "check", "-"],
-        stdin=subprocess.DEVNULL,
-        capture_output=True,
-        text=True,
-        timeout=HANG_GUARD_SECONDS,
-        check=False,
+    return subprocess.run(
+        command, shell=True, capture_output=True, text=True, timeout=HANG_GUARD_SECONDS, check=False
     )
-    assert done.returncode == 1  # an empty document: one XS001
-    closed = subprocess.run(
-        f"{CONSOLE_SCRIPT} check - <&-",
-        shell=True,
-        capture_output=True,
-        text=True,
-        timeout=HANG_GUARD_SECONDS,
-        check=False,
-    )
+
+
+def test_closed_stdin_is_one_line() -> None:
+    assert shell(f"{CONSOLE_SCRIPT} check - </dev/null").returncode == 1  # empty: one XS001
+    closed = shell(f"{CONSOLE_SCRIPT} check - <&-")
     assert closed.returncode == 2
     assert closed.stderr == "xodrlint: -: cannot read standard input: it is closed\n"
 
@@ -254,3 +246,10 @@ def test_machine_formats_stay_complete_when_inputs_are_unreadable(
     assert done.returncode == 2
     assert len(done.stderr.splitlines()) == 2 and "Traceback" not in done.stderr
     _check_document(output_format, done.stdout)
+
+
+def test_a_reader_that_stops_early_gets_one_line(tmp_path: Path) -> None:
+    for index in range(60):  # a report larger than a pipe's buffer
+        shutil.copyfile(BROKEN, tmp_path / f"b{index:02}.xodr")
+    done = shell(f"{CONSOLE_SCRIPT} check -f json {tmp_path} | head -c 1 >/dev/null")
+    assert done.stderr == "xodrlint: standard output: cannot write: broken pipe\n"

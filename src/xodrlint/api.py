@@ -133,7 +133,7 @@ def _expand(raw: str, max_file_size: int) -> Iterator[Input]:
         if glob.has_magic(raw) and error.errno == errno.ENOENT:
             yield from _glob(raw, max_file_size)
         else:
-            yield Input(printable_path(raw), error=f"{printable_path(raw)}: {_reason(error)}")
+            yield Input(printable_path(raw), error=f"{printable_path(raw)}: {os_reason(error)}")
         return
     if stat.S_ISDIR(status.st_mode):
         yield from _walk(path, max_file_size)
@@ -160,7 +160,7 @@ def _walk(folder: Path, max_file_size: int) -> Iterator[Input]:
         # os.walk passes over a folder it cannot list; that must not pass in silence
         where = Path(error.filename or folder)
         shown = printable_path(where.as_posix())
-        found.append((where, Input(shown, error=f"{shown}: cannot list: {_reason(error)}")))
+        found.append((where, Input(shown, error=f"{shown}: cannot list: {os_reason(error)}")))
 
     for current, folders, files in os.walk(folder, followlinks=False, onerror=unlistable):
         folders.sort()
@@ -178,7 +178,7 @@ def _found(path: Path, max_file_size: int) -> Input:
         status = path.stat()
     except OSError as error:
         return Input(
-            printable_path(shown), path=path, error=f"{printable_path(shown)}: {_reason(error)}"
+            printable_path(shown), path=path, error=f"{printable_path(shown)}: {os_reason(error)}"
         )
     return _checked(shown, path, status, max_file_size, named=False)
 
@@ -231,7 +231,8 @@ def printable_path(name: str) -> str:
     return name
 
 
-def _reason(error: OSError) -> str:
+def os_reason(error: OSError) -> str:
+    """The OS's reason for ``error``, lowercased the way xodrlint's messages are."""
     reason = error.strerror or type(error).__name__
     return reason[:1].lower() + reason[1:]
 

@@ -19,6 +19,7 @@ from xodrlint.api import (
     collect_inputs,
     default_registry,
     exit_code,
+    os_reason,
     printable_path,
     too_large,
 )
@@ -193,7 +194,13 @@ def run_check(request: CheckRequest) -> int:
         else:
             write_output(request.output, lambda stream: formatter.render(result, stream))
     except OSError as error:
-        error_line(f"--output {request.output}: cannot write: {error.strerror or error}")
+        # a reader that stops early (| head) closes the pipe: say so, not "--output None"
+        where = (
+            "standard output"
+            if request.output in (None, STDOUT)
+            else "--output " + str(request.output)
+        )
+        error_line(f"{where}: cannot write: {os_reason(error)}")
         return 2
     return exit_code(reports, settings.fail_on, request.exit_zero)
 
@@ -348,7 +355,7 @@ def _write_baseline(path: Path, reports: list[FileReport], root: str) -> int:
     try:
         write_output(str(path), lambda stream: _dump(document, stream))
     except OSError as error:
-        error_line(f"--write-baseline {path}: cannot write: {error.strerror or error}")
+        error_line(f"--write-baseline {path}: cannot write: {os_reason(error)}")
         return 2
     count = sum(len(r.findings) for r in reports)
     print(f"xodrlint: recorded {count} findings in {path}", file=sys.stderr)
