@@ -22,7 +22,8 @@ import pytest
 from lxml import etree
 
 from xodrlint.api import lint_bytes
-from xodrlint.document import MAX_MESSAGE_LENGTH, load_bytes
+from xodrlint.document import load_bytes
+from xodrlint.messages import MAX_MESSAGE_LENGTH
 
 from .wellformed import assert_well_formed
 
