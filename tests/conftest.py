@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+import socket
+from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -28,3 +30,33 @@ def isolated_schemas(
     monkeypatch.delenv("XODRLINT_SCHEMA_PATH", raising=False)
     monkeypatch.delenv("XODRLINT_DEBUG", raising=False)
     yield data
+
+
+NETWORK_FAMILIES = (socket.AF_INET, socket.AF_INET6)
+
+
+@pytest.fixture(autouse=True)
+def network_attempts(monkeypatch: pytest.MonkeyPatch) -> Iterator[list[str]]:
+    """xodrlint never goes on the network (schemas are fetched in tests from a local wheel),
+    so any TCP or UDP connection a test makes is refused and fails it at teardown, even if
+    the code under test swallowed the error. Local sockets (pipes of worker pools) pass."""
+    attempts: list[str] = []
+
+    def guarded(real: Callable[..., Any]) -> Callable[..., Any]:
+        def connect(self: socket.socket, address: Any, *args: Any) -> Any:
+            if self.family in NETWORK_FAMILIES:
+                attempts.append(repr(address))
+                raise ConnectionRefusedError(f"test network guard: connection to {address!r}")
+            return real(self, address, *args)
+
+        return connect
+
+    def create_connection(address: Any, *args: Any, **kwargs: Any) -> socket.socket:
+        attempts.append(repr(address))
+        raise ConnectionRefusedError(f"test network guard: connection to {address!r}")
+
+    monkeypatch.setattr(socket.socket, "connect", guarded(socket.socket.connect))
+    monkeypatch.setattr(socket.socket, "connect_ex", guarded(socket.socket.connect_ex))
+    monkeypatch.setattr(socket, "create_connection", create_connection)
+    yield attempts
+    assert not attempts, f"the test attempted network connections: {attempts}"

@@ -616,7 +616,15 @@ def test_gitlab_code_quality(tmp_path: Path) -> None:
     text = render("gitlab", result)
     items = json.loads(text)
     check_code_quality(items)
-    assert len(items) == len(result.findings)
+    unreadable = [report for report in result.reports if report.error]
+    assert len(items) == len(result.findings) + len(unreadable) == len(result.findings) + 1
+    assert items[-1] == {
+        "description": unreadable[0].error,
+        "check_name": "xodrlint:unreadable",
+        "fingerprint": items[-1]["fingerprint"],
+        "severity": "blocker",
+        "location": {"path": "nonexistent-input.xodr", "lines": {"begin": 1}},
+    }
     first = items[0]
     assert first == {
         "description": f"XS006 {result.findings[0].message}",
@@ -632,7 +640,16 @@ def test_gitlab_code_quality(tmp_path: Path) -> None:
     sarif_prints = [
         e["partialFingerprints"][FINGERPRINT_KEY] for e in only_run(sarif(result))["results"]
     ]
-    assert [item["fingerprint"] for item in items] == sarif_prints
+    assert [item["fingerprint"] for item in items[: len(result.findings)]] == sarif_prints
+
+
+def test_gitlab_reports_a_crashed_rule_as_an_unchecked_file() -> None:
+    result = lint(CLEAN)
+    crashed = result.reports[0]._replace(internal_errors=("rule SW001 failed\nboom",))
+    [item] = json.loads(render("gitlab", result._replace(reports=(crashed,))))
+    check_code_quality([item])
+    assert (item["check_name"], item["severity"]) == ("xodrlint:internal-error", "blocker")
+    assert item["description"] == "rule SW001 failed boom"
 
 
 def test_gitlab_info_severity_and_empty_report() -> None:

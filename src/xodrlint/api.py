@@ -17,6 +17,7 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Final, NamedTuple
 
+from xodrlint.config import DEFAULT_MAX_FILE_SIZE, format_size
 from xodrlint.engine import Linter, LintOptions
 from xodrlint.findings import FileReport, Severity
 from xodrlint.registry import Registry, load_registry
@@ -86,67 +87,150 @@ def lint_bytes(
 
 
 class Input(NamedTuple):
-    """One thing to lint: a file, standard input, or a path that cannot be linted."""
+    """One thing to lint: a file, standard input, or a path that cannot be linted.
+
+    ``error`` says why a path cannot be linted (exit 2); ``skipped`` why a file met in a
+    folder or a glob is left out without failing the run (a FIFO, a device).
+    """
 
     display: str
     path: Path | None = None
     error: str | None = None
     is_stdin: bool = False
+    skipped: str | None = None
 
 
 def collect_inputs(
-    paths: Iterable[str], exclude: Callable[[Path], bool] | None = None
+    paths: Iterable[str],
+    exclude: Callable[[Path], bool] | None = None,
+    max_file_size: int = DEFAULT_MAX_FILE_SIZE,
 ) -> Iterator[Input]:
     """Files as given, folders walked for ``*.xodr`` (sorted, symlinks not followed), and
     glob patterns (``maps/**/*.xodr``) expanded when no such path exists. ``exclude``
-    drops files, found or given, that it matches."""
+    drops files, found or given, that it matches.
+
+    Nothing is opened here, but every file is looked at: what could not be read safely
+    (larger than ``max_file_size``, a FIFO or device that would block or never end, a
+    name that is not UTF-8 and so cannot be reported) comes back with ``error`` or
+    ``skipped`` set, before any linting starts.
+    """
     for raw in paths:
         if raw == STDIN:
             yield Input(STDIN, is_stdin=True)
             continue
-        for item in _expand(raw):
+        for item in _expand(raw, max_file_size):
             if item.path is None or exclude is None or not exclude(item.path):
                 yield item
 
 
-def _expand(raw: str) -> Iterator[Input]:
+def _expand(raw: str, max_file_size: int) -> Iterator[Input]:
     path = Path(raw)
     try:
-        mode = path.stat().st_mode
+        status = path.stat()
     except OSError as error:
         if glob.has_magic(raw) and error.errno == errno.ENOENT:
-            yield from _glob(raw)
+            yield from _glob(raw, max_file_size)
         else:
-            yield Input(raw, error=f"{raw}: {_reason(error)}")
+            yield Input(printable_path(raw), error=f"{printable_path(raw)}: {os_reason(error)}")
         return
-    if stat.S_ISDIR(mode):
-        yield from _walk(path)
+    if stat.S_ISDIR(status.st_mode):
+        yield from _walk(path, max_file_size)
     else:
-        yield Input(raw, path=path)
+        yield _checked(raw, path, status, max_file_size, named=True)
 
 
-def _glob(pattern: str) -> Iterator[Input]:
+def _glob(pattern: str, max_file_size: int) -> Iterator[Input]:
     # glob.glob, not Path.glob: the pattern may be absolute, and ** must cross folders
     matched = sorted(glob.glob(pattern, recursive=True))  # noqa: PTH207
     if not matched:
         yield Input(pattern, error=f"{pattern}: no file matches")
     for name in matched:
         if Path(name).is_dir():
-            yield from _walk(Path(name))
+            yield from _walk(Path(name), max_file_size)
         else:
-            yield Input(name, path=Path(name))
+            yield _found(Path(name), max_file_size)
 
 
-def _walk(folder: Path) -> Iterator[Input]:
-    found: list[Path] = []
-    for current, folders, files in os.walk(folder, followlinks=False):
+def _walk(folder: Path, max_file_size: int) -> Iterator[Input]:
+    found: list[tuple[Path, Input | None]] = []
+
+    def unlistable(error: OSError) -> None:
+        # os.walk passes over a folder it cannot list; that must not pass in silence
+        where = Path(error.filename or folder)
+        shown = printable_path(where.as_posix())
+        found.append((where, Input(shown, error=f"{shown}: cannot list: {os_reason(error)}")))
+
+    for current, folders, files in os.walk(folder, followlinks=False, onerror=unlistable):
         folders.sort()
-        found.extend(Path(current, name) for name in files if name.lower().endswith(XODR_SUFFIX))
-    for path in sorted(found):
-        yield Input(path.as_posix(), path=path)
+        found.extend(
+            (Path(current, name), None) for name in files if name.lower().endswith(XODR_SUFFIX)
+        )
+    for path, problem in sorted(found, key=lambda item: item[0]):
+        yield problem or _found(path, max_file_size)
 
 
-def _reason(error: OSError) -> str:
+def _found(path: Path, max_file_size: int) -> Input:
+    """A file met in a folder or a glob (a symbolic link is followed to what it names)."""
+    shown = path.as_posix()
+    try:
+        status = path.stat()
+    except OSError as error:
+        return Input(
+            printable_path(shown), path=path, error=f"{printable_path(shown)}: {os_reason(error)}"
+        )
+    return _checked(shown, path, status, max_file_size, named=False)
+
+
+def _checked(
+    shown: str, path: Path, status: os.stat_result, max_file_size: int, *, named: bool
+) -> Input:
+    """``path`` as an input, or why it cannot be one; a special file named on the command
+    line is an error, one met in a folder walk is skipped with a note."""
+    printable = printable_path(shown)
+    if printable != shown:
+        return Input(printable, path=path, error=f"{printable}: the file name is not valid UTF-8")
+    kind = _special_kind(status.st_mode)
+    if kind is not None:
+        if named:
+            return Input(shown, path=path, error=f"{shown}: is {kind}, not a regular file")
+        return Input(shown, path=path, skipped=f"{shown}: skipped, {kind} is not a regular file")
+    if status.st_size > max_file_size:
+        return Input(shown, path=path, error=too_large(shown, max_file_size))
+    return Input(shown, path=path)
+
+
+def too_large(shown: str, max_file_size: int) -> str:
+    """Why an input larger than ``max_file_size`` is not read."""
+    limit = format_size(max_file_size)
+    return f"{shown}: larger than the maximum file size ({limit}, see --max-file-size)"
+
+
+def _special_kind(mode: int) -> str | None:
+    """What a path that is neither a file nor a folder is; reading it would block (a
+    FIFO, a socket) or never end (``/dev/zero``)."""
+    for test, kind in (
+        (stat.S_ISFIFO, "a FIFO"),
+        (stat.S_ISCHR, "a character device"),
+        (stat.S_ISBLK, "a block device"),
+        (stat.S_ISSOCK, "a socket"),
+    ):
+        if test(mode):
+            return kind
+    return None
+
+
+def printable_path(name: str) -> str:
+    """``name`` as reports can carry it: bytes that are not UTF-8 (kept by Python as lone
+    surrogates) written as ``\\xff`` escapes."""
+    try:
+        name.encode("utf-8")
+    except UnicodeEncodeError:
+        return os.fsencode(name).decode("utf-8", "backslashreplace")
+    return name
+
+
+def os_reason(error: OSError) -> str:
+    """The OS's reason for ``error``, lowercased the way xodrlint's messages are."""
     reason = error.strerror or type(error).__name__
     return reason[:1].lower() + reason[1:]
 

@@ -13,7 +13,16 @@ from types import MappingProxyType
 from typing import Final, NamedTuple, TextIO
 
 from xodrlint import __version__
-from xodrlint.api import STDIN, Input, collect_inputs, default_registry, exit_code
+from xodrlint.api import (
+    STDIN,
+    Input,
+    collect_inputs,
+    default_registry,
+    exit_code,
+    os_reason,
+    printable_path,
+    too_large,
+)
 from xodrlint.baseline import BaselineError
 from xodrlint.batch import Task, default_jobs, lint_tasks
 from xodrlint.config import (
@@ -22,6 +31,7 @@ from xodrlint.config import (
     Settings,
     any_match,
     find_config,
+    parse_size,
     read_config,
     settings_from,
 )
@@ -72,6 +82,7 @@ class CheckRequest(NamedTuple):
     warn_unused_suppressions: bool | None = None
     show_suppressed: bool = False
     statistics: bool = False
+    max_file_size: str | None = None
 
 
 class UsageError(ValueError):
@@ -116,8 +127,18 @@ def _overrides(request: CheckRequest) -> dict[str, object]:
         "output-format": request.output_format,
         "exclude": request.exclude,
         "warn-unused-suppressions": request.warn_unused_suppressions,
+        "max-file-size": _max_file_size(request.max_file_size),
         **request.rule_options,
     }
+
+
+def _max_file_size(given: str | None) -> int | None:
+    if given is None:
+        return None
+    try:
+        return parse_size(given)
+    except TypeError as expected:
+        raise UsageError(f"--max-file-size {given}: expected {expected}") from None
 
 
 def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
@@ -136,7 +157,7 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
         )
         linter = _linter(registry, settings, request)
         formatter = formatter or _formatter(settings.output_format, request)
-        inputs = list(collect_inputs(request.paths, _excluder(settings)))
+        inputs = _inputs(request, settings)
         _check_output_target("--output", request.output, inputs)
         if request.write_baseline is not None:
             _check_output_target("--write-baseline", str(request.write_baseline), inputs)
@@ -180,7 +201,13 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
         else:
             write_output(request.output, lambda stream: formatter.render(result, stream))
     except OSError as error:
-        error_line(f"--output {request.output}: cannot write: {error.strerror or error}")
+        # a reader that stops early (| head) closes the pipe: say so, not "--output None"
+        where = (
+            "standard output"
+            if request.output in (None, STDOUT)
+            else "--output " + str(request.output)
+        )
+        error_line(f"{where}: cannot write: {os_reason(error)}")
         return 2
     return exit_code(reports, settings.fail_on, request.exit_zero)
 
@@ -224,7 +251,9 @@ def _excluder(settings: Settings) -> Callable[[Path], bool] | None:
 def _lint(
     linter: Linter, settings: Settings, inputs: list[Input], request: CheckRequest
 ) -> list[FileReport]:
-    stdin = sys.stdin.buffer.read() if any(i.is_stdin for i in inputs) else None
+    stdin, unreadable = (
+        _read_stdin(settings.max_file_size) if any(i.is_stdin for i in inputs) else (b"", None)
+    )
     tasks = [
         Task(item.path, item.display, _per_file_ignores(settings, item.path))
         for item in inputs
@@ -239,10 +268,54 @@ def _lint(
         elif item.is_stdin:
             name = request.stdin_filename or STDIN
             external = _per_file_ignores(settings, Path(name)) if request.stdin_filename else ()
-            reports.append(linter.lint_bytes(stdin or b"", name, external))
+            if unreadable is not None:
+                reports.append(FileReport(name, error=unreadable))
+            else:
+                reports.append(linter.lint_bytes(stdin, name, external))
         else:
             reports.append(next(linted))
     return reports
+
+
+def _inputs(request: CheckRequest, settings: Settings) -> list[Input]:
+    """What to lint; files a folder walk met but cannot lint (a FIFO, a device) are left
+    out with a note on stderr."""
+    name = request.stdin_filename
+    if name is not None and printable_path(name) != name:
+        shown = printable_path(name)
+        raise UsageError(f"--stdin-filename {shown}: the name is not valid UTF-8")
+    inputs = []
+    for item in collect_inputs(request.paths, _excluder(settings), settings.max_file_size):
+        if item.skipped is not None:
+            error_line(f"note: {item.skipped}")
+        else:
+            inputs.append(item)
+    return inputs
+
+
+#: Standard input is read in pieces this large, so that a limit of gigabytes is never
+#: allocated up front.
+STDIN_CHUNK: Final = 1024 * 1024
+
+
+def _read_stdin(limit: int) -> tuple[bytes, str | None]:
+    """Standard input, at most ``limit`` bytes: (contents, why it cannot be linted)."""
+    if sys.stdin is None:  # started with standard input closed
+        return b"", f"{STDIN}: cannot read standard input: it is closed"
+    pieces: list[bytes] = []
+    size = 0
+    try:
+        while size <= limit:
+            piece = sys.stdin.buffer.read(min(STDIN_CHUNK, limit + 1 - size))
+            if not piece:
+                break
+            pieces.append(piece)
+            size += len(piece)
+    except (OSError, ValueError) as error:  # a closed or unreadable stream
+        return b"", f"{STDIN}: cannot read standard input: {error}"
+    if size > limit:
+        return b"", too_large(STDIN, limit)
+    return b"".join(pieces), None
 
 
 def _per_file_ignores(settings: Settings, path: Path) -> tuple[tuple[str, str], ...]:
@@ -260,13 +333,23 @@ def _check_output_target(flag: str, output: str | None, inputs: list[Input]) -> 
     if output in (None, STDOUT):
         return
     target = Path(output)
-    real = os.path.realpath(target)
-    if any(item.path is not None and os.path.realpath(item.path) == real for item in inputs):
+    if any(item.path is not None and _same_file(target, item.path) for item in inputs):
         raise UsageError(f"{flag} {output}: is one of the inputs; refusing to overwrite it")
     if target.is_dir():
         raise UsageError(f"{flag} {output}: is a folder")
     if not target.parent.is_dir():
         raise UsageError(f"{flag} {output}: its folder {target.parent} does not exist")
+
+
+def _same_file(output: Path, input_path: Path) -> bool:
+    """Whether writing ``output`` would replace ``input_path``: the same path once links
+    are resolved, or the same file under another name (a hard link)."""
+    if os.path.realpath(output) == os.path.realpath(input_path):
+        return True
+    try:
+        return output.samefile(input_path)
+    except OSError:  # the output does not exist yet, or the input is gone
+        return False
 
 
 def run_notes(reports: list[FileReport]) -> tuple[str, ...]:
@@ -280,7 +363,7 @@ def _write_baseline(path: Path, reports: list[FileReport], root: str) -> int:
     try:
         write_output(str(path), lambda stream: _dump(document, stream))
     except OSError as error:
-        error_line(f"--write-baseline {path}: cannot write: {error.strerror or error}")
+        error_line(f"--write-baseline {path}: cannot write: {os_reason(error)}")
         return 2
     count = sum(len(r.findings) for r in reports)
     print(f"xodrlint: recorded {count} findings in {path}", file=sys.stderr)

@@ -209,6 +209,14 @@ def check(
             rich_help_panel=_OUTPUT,
         ),
     ] = False,
+    max_file_size: Annotated[
+        str | None,
+        typer.Option(
+            help="Refuse inputs larger than this, before reading them: bytes, or 500MB, "
+            "2GiB (default 2GiB).",
+            rich_help_panel=_RUN,
+        ),
+    ] = None,
     rail_min_width: Annotated[
         float | None,
         typer.Option(
@@ -264,6 +272,7 @@ def check(
             warn_unused_suppressions=warn_unused_suppressions,
             show_suppressed=show_suppressed,
             statistics=statistics,
+            max_file_size=max_file_size,
         )
     )
     raise typer.Exit(code)

@@ -21,6 +21,9 @@ from xodrlint.findings import Severity
 CONFIG_NAMES: Final = (".xodrlint.toml", "xodrlint.toml", "pyproject.toml")
 DEFAULT: Final = "default"
 COMMAND_LINE: Final = "command line"
+#: Larger inputs are refused before they are read: far above any real map (the largest
+#: public networks are tens of MB), low enough that no input can exhaust the memory.
+DEFAULT_MAX_FILE_SIZE: Final = 2 * 1024**3
 
 
 class ConfigError(ValueError):
@@ -91,6 +94,7 @@ class Settings:
     exclude: tuple[str, ...] = ()
     rule_options: Mapping[str, float] = field(default_factory=dict)
     warn_unused_suppressions: bool = False
+    max_file_size: int = DEFAULT_MAX_FILE_SIZE
     base: Path = field(default_factory=Path.cwd)
     config_file: Path | None = None
     sources: Mapping[str, str] = field(default_factory=dict)
@@ -123,6 +127,7 @@ class Settings:
                 self.warn_unused_suppressions,
                 self.source_of("warn-unused-suppressions"),
             ),
+            ("max-file-size", format_size(self.max_file_size), self.source_of("max-file-size")),
         ]
         rows += [
             (name, value, self.source_of(name)) for name, value in sorted(self.rule_options.items())
@@ -167,6 +172,34 @@ def _number(value: object) -> float:
     raise TypeError("a finite number")
 
 
+_SIZE: Final = re.compile(r"(\d+)\s*([kmgt]i?)?b?", re.IGNORECASE)
+_UNITS: Final = {"": 1, "k": 1000, "m": 1000**2, "g": 1000**3, "t": 1000**4}
+_BINARY_UNITS: Final = {"ki": 1024, "mi": 1024**2, "gi": 1024**3, "ti": 1024**4}
+
+
+def parse_size(value: object) -> int:
+    """A positive size in bytes: an integer, or a string such as ``500MB`` or ``2GiB``
+    (kB, MB, GB, TB are powers of 1000; KiB, MiB, GiB, TiB powers of 1024)."""
+    if isinstance(value, int) and not isinstance(value, bool) and value > 0:
+        return value
+    found = _SIZE.fullmatch(value.strip()) if isinstance(value, str) else None
+    if found is not None:
+        unit = (found[2] or "").lower()
+        size = int(found[1]) * {**_UNITS, **_BINARY_UNITS}[unit]
+        if size > 0:
+            return size
+    raise TypeError("a positive size such as 500MB or 2GiB")
+
+
+def format_size(size: int) -> str:
+    """``size`` the way a person writes it: ``2GiB``, ``10MB``, ``1234`` (bytes)."""
+    for units in (_BINARY_UNITS, _UNITS):
+        for unit, factor in sorted(units.items(), key=lambda item: -item[1]):
+            if factor > 1 and size % factor == 0:
+                return f"{size // factor}{unit.upper().replace('I', 'i')}B"
+    return str(size)
+
+
 def _globs_to_codes(value: object) -> tuple[tuple[str, tuple[str, ...]], ...]:
     if not isinstance(value, dict):
         raise TypeError("a table of glob = [codes]")
@@ -190,6 +223,7 @@ _READERS: Final[Mapping[str, _Reader]] = {
     "output-format": _text,
     "exclude": _strings,
     "warn-unused-suppressions": _boolean,
+    "max-file-size": parse_size,
 }
 
 
@@ -231,6 +265,7 @@ def settings_from(
         exclude=tuple(_get(values, "exclude", ())),
         rule_options={name: float(values[name]) for name in options if name in values},  # type: ignore[arg-type]
         warn_unused_suppressions=bool(values.get("warn-unused-suppressions", False)),
+        max_file_size=int(_get(values, "max-file-size", DEFAULT_MAX_FILE_SIZE)),
         base=base,
         config_file=config.path if config is not None else None,
         sources=sources,

@@ -107,7 +107,9 @@ FORMAT_NOTES: Final = {
     "invocation; the real file also describes every rule in `tool.driver.rules` (help "
     "text from the rule's page, UID, aliases, tags).",
     "github": "GitHub Actions workflow commands: annotations on the pull request.",
-    "gitlab": "GitLab Code Quality: the merge request widget and diff annotations.",
+    "gitlab": "GitLab Code Quality: the merge request widget and diff annotations. A file "
+    "that could not be read is an issue too (`xodrlint:unreadable`, severity `blocker`, "
+    "line 1), so the merge request shows that it went unchecked.",
     "junit": "JUnit XML: one test suite per file, for GitLab's and Jenkins' test reports.",
     "xqar": "The ASAM Quality Checker framework's result file (see "
     "[qc-framework.md](qc-framework.md)). Shown here: the bundle and the checkers with "

@@ -14,6 +14,7 @@ from typing import Final, NamedTuple
 from lxml import etree
 
 from xodrlint.findings import Hit
+from xodrlint.messages import readable_parser_message
 
 #: ASAM's pre-1.6 namespace; files using it are read as if un-namespaced.
 ASAM_LEGACY_NAMESPACE: Final = "http://code.asam.net/simulation/standard/opendrive_schema"
@@ -31,6 +32,10 @@ def hardened_parser() -> etree.XMLParser:
     No entity expansion (billion laughs, external entities), no DTD loading, no network,
     no XInclude (lxml only processes it on request, and we never request it). Comments and
     processing instructions are kept: inline suppressions live in comments.
+
+    ``collect_ids`` stays at its default on purpose: lxml turns ``collect_ids=False`` into
+    a libxml2 flag that makes it load the external DTD a file names, ``load_dtd=False``
+    notwithstanding (a local file read, a hang on a FIFO).
     """
     return etree.XMLParser(
         resolve_entities=False,
@@ -38,7 +43,6 @@ def hardened_parser() -> etree.XMLParser:
         dtd_validation=False,
         no_network=True,
         huge_tree=False,
-        collect_ids=False,
         remove_comments=False,
         remove_pis=False,
     )
@@ -151,14 +155,10 @@ def _syntax_error_hit(error: etree.XMLSyntaxError, log: etree._ListErrorLog) -> 
         line, column = error.position
         message = error.msg or "not well-formed XML"
     message = _LIBXML2_POSITION_SUFFIX.sub("", message.strip()).rstrip(".")
-    return Hit(None, _lowercase_first(message), line=max(line, 1), column=column or None)
+    return Hit(None, readable_parser_message(message), line=max(line, 1), column=column or None)
 
 
 _LIBXML2_POSITION_SUFFIX: Final = re.compile(r",\s*line \d+, column \d+$")
-
-
-def _lowercase_first(text: str) -> str:
-    return text[:1].lower() + text[1:] if text[:2] != text[:2].upper() else text
 
 
 def _drop_legacy_namespace(root: etree._Element) -> None:

@@ -28,6 +28,7 @@ from xodrlint.findings import (
     Severity,
     Suppressed,
 )
+from xodrlint.messages import one_line
 from xodrlint.model import RailNetwork, build_network
 from xodrlint.registry import Registry
 from xodrlint.rules import Rule
@@ -285,7 +286,7 @@ class Linter:
             line, xpath = hit.line or 1, DOCUMENT_XPATH
         severity = self.options.severity.get(meta.code, meta.severity)
         related = tuple(Location(doc.line_of(el), doc.xpath_of(el)) for el in hit.related)
-        message = hit.message
+        message = one_line(hit.message)  # messages quote values a map may fill with anything
         if related:
             message += " at line " + ", ".join(str(location.line) for location in related)
         finding = Finding(

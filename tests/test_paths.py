@@ -1,0 +1,255 @@
+"""Paths that cannot be linted: each is one line on stderr and exit 2 (a FIFO or device met
+in a folder walk is skipped with a note), never a hang, and the other paths are linted.
+
+These run the real console script, so stderr and the exit code are exactly what a user
+sees, and a read that blocks fails the test at the time limit instead of stalling it."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import jsonschema  # type: ignore[import-untyped, unused-ignore]
+import pytest
+from junitparser import JUnitXml  # type: ignore[import-untyped, unused-ignore]
+from typer.testing import CliRunner
+
+from xodrlint.cli import app
+
+from .conftest import REPO
+from .test_formatters import sarif_validator
+
+CLEAN = REPO / "examples" / "clean.xodr"
+BROKEN = REPO / "examples" / "broken.xodr"
+CONSOLE_SCRIPT = Path(sys.executable).parent / "xodrlint"
+OUTPUT_SCHEMA = json.loads((REPO / "docs" / "json-output.schema.json").read_text("utf-8"))
+HANG_GUARD_SECONDS = 60
+NOT_UTF8 = os.fsdecode(b"caf\xe9.xodr")  # Latin-1 bytes: a lone surrogate in Python
+
+
+def console(*args: str | Path, stdin: bytes = b"") -> subprocess.CompletedProcess[str]:
+    if not CONSOLE_SCRIPT.is_file():
+        pytest.skip(f"no console script at {CONSOLE_SCRIPT}")
+    return subprocess.run(
+        [os.fsencode(str(CONSOLE_SCRIPT)), *(os.fsencode(str(arg)) for arg in args)],
+        capture_output=True,
+        input=stdin.decode("latin-1"),
+        text=True,
+        encoding="latin-1",  # stderr may carry any bytes: decoding must not fail the test
+        timeout=HANG_GUARD_SECONDS,
+        check=False,
+    )
+
+
+def _folder(tmp_path: Path) -> Path:
+    maps = tmp_path / "maps"
+    maps.mkdir()
+    shutil.copyfile(CLEAN, maps / "a-clean.xodr")
+    return maps
+
+
+def test_special_files_given_by_name_are_one_line_each(tmp_path: Path) -> None:
+    fifo = tmp_path / "pipe.xodr"
+    os.mkfifo(fifo)  # reading it would wait for a writer forever
+    done = console("check", fifo, "/dev/zero", CLEAN)
+    assert done.returncode == 2
+    assert done.stderr.splitlines() == [
+        f"xodrlint: {fifo}: is a FIFO, not a regular file",
+        "xodrlint: /dev/zero: is a character device, not a regular file",
+    ]
+    assert "No findings in 1 of 3 files. 2 could not be read." in done.stdout
+
+
+def test_special_files_met_in_a_folder_walk_are_skipped_with_a_note(tmp_path: Path) -> None:
+    maps = _folder(tmp_path)
+    os.mkfifo(maps / "b-pipe.xodr")
+    (maps / "c-zero.xodr").symlink_to("/dev/zero")
+    done = console("check", maps)
+    assert done.returncode == 0, done.stderr
+    assert done.stderr.splitlines() == [
+        f"xodrlint: note: {maps.as_posix()}/b-pipe.xodr: skipped, a FIFO is not a regular file",
+        f"xodrlint: note: {maps.as_posix()}/c-zero.xodr: skipped, a character device is not "
+        "a regular file",
+    ]
+    assert "All checks passed: 1 file, no findings." in done.stdout
+
+
+def test_symlink_loops_in_a_folder_walk(tmp_path: Path) -> None:
+    maps = _folder(tmp_path)
+    (maps / "b-loop.xodr").symlink_to("b-loop.xodr")
+    (maps / "sub").mkdir()
+    (maps / "sub" / "up").symlink_to("..")  # a folder cycle: links are not followed
+    done = console("check", maps, BROKEN, "-q")
+    assert done.returncode == 2
+    assert done.stderr == f"xodrlint: {maps}/b-loop.xodr: too many levels of symbolic links\n"
+    assert done.stdout.count("XS006") == 3  # broken.xodr was still linted
+
+
+def test_non_utf8_file_names_are_one_line_and_the_rest_is_linted(tmp_path: Path) -> None:
+    maps = _folder(tmp_path)
+    try:
+        shutil.copyfile(CLEAN, maps / NOT_UTF8)
+    except (OSError, UnicodeError):
+        pytest.skip("the file system takes only UTF-8 names")
+    named = console("check", maps / NOT_UTF8, CLEAN)
+    walked = console("check", maps, "-f", "json")
+    for done in (named, walked):
+        assert done.returncode == 2
+        assert done.stderr == f"xodrlint: {maps}/caf\\xe9.xodr: the file name is not valid UTF-8\n"
+    report = json.loads(walked.stdout)
+    assert [f["error"] is None for f in report["files"]] == [True, False]
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root reads files whatever their mode")
+def test_permission_denied_for_real(tmp_path: Path) -> None:
+    maps = _folder(tmp_path)
+    locked = maps / "locked.xodr"
+    shutil.copyfile(CLEAN, locked)
+    locked.chmod(0)
+    (maps / "closed").mkdir(mode=0)
+    done = console("check", maps)
+    assert done.returncode == 2
+    assert sorted(done.stderr.splitlines()) == [
+        f"xodrlint: {maps}/closed: cannot list: permission denied",
+        f"xodrlint: {maps}/locked.xodr: cannot read: permission denied",
+    ]
+
+
+def _refuse(real: Any, refused: Path) -> Any:
+    def guarded(path: Any, *args: Any, **kwargs: Any) -> Any:
+        if Path(path) == refused:
+            raise PermissionError(13, "Permission denied", str(path))
+        return real(path, *args, **kwargs)
+
+    return guarded
+
+
+def test_permission_denied_emulated(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The same refusals as above, raised where the OS would raise them (tests run as root)."""
+    maps = _folder(tmp_path)
+    shutil.copyfile(CLEAN, maps / "locked.xodr")
+    (maps / "closed").mkdir()
+    shutil.copyfile(CLEAN, maps / "closed" / "hidden.xodr")
+    monkeypatch.setattr(os, "scandir", _refuse(os.scandir, maps / "closed"))
+    monkeypatch.setattr(Path, "read_bytes", _refuse(Path.read_bytes, maps / "locked.xodr"))
+    result = CliRunner().invoke(app, ["check", str(maps), "-f", "json"])
+    assert result.exit_code == 2
+    assert result.stderr.splitlines() == [
+        f"xodrlint: {maps}/closed: cannot list: permission denied",
+        f"xodrlint: {maps}/locked.xodr: cannot read: permission denied",
+    ]
+    report = json.loads(result.stdout)
+    assert [f["path"] for f in report["files"]] == [
+        f"{maps}/a-clean.xodr",
+        f"{maps}/closed",
+        f"{maps}/locked.xodr",
+    ]
+
+
+def test_a_folder_given_as_a_file_is_walked_and_a_missing_one_is_an_error(tmp_path: Path) -> None:
+    maps = _folder(tmp_path)
+    done = console("check", maps, tmp_path / "gone", "-q")
+    assert done.returncode == 2
+    assert done.stderr == f"xodrlint: {tmp_path / 'gone'}: no such file or directory\n"
+
+
+def test_max_file_size_refuses_larger_inputs_before_reading(tmp_path: Path) -> None:
+    size = CLEAN.stat().st_size
+    done = console("check", CLEAN, BROKEN, "--max-file-size", str(size), "-q")
+    assert done.returncode == 2
+    assert done.stderr == (
+        f"xodrlint: {BROKEN}: larger than the maximum file size ({size}, see --max-file-size)\n"
+    )
+    piped = console("check", "-", "--max-file-size", "1KiB", stdin=CLEAN.read_bytes())
+    assert piped.returncode == 2
+    assert (
+        piped.stderr
+        == "xodrlint: -: larger than the maximum file size (1KiB, see --max-file-size)\n"
+    )
+    assert console("check", CLEAN, "--max-file-size", "2GiB").returncode == 0
+
+
+@pytest.mark.parametrize("value", ["0", "lots", "-5", "1.5GB", "10PB"])
+def test_a_bad_max_file_size_is_a_usage_error(value: str) -> None:
+    done = console("check", CLEAN, "--max-file-size", value)
+    assert (done.returncode, done.stdout) == (2, "")
+    assert done.stderr == (
+        f"xodrlint: --max-file-size {value}: expected a positive size such as 500MB or 2GiB\n"
+    )
+
+
+def test_max_file_size_in_the_config(tmp_path: Path) -> None:
+    (tmp_path / "xodrlint.toml").write_text('max-file-size = "1kB"\n', "utf-8")
+    shutil.copyfile(CLEAN, tmp_path / "clean.xodr")
+    done = console("check", tmp_path / "clean.xodr")
+    assert done.returncode == 2 and "(1KB, see --max-file-size)" in done.stderr
+    shown = json.loads(console("config", tmp_path, "-f", "json").stdout)
+    assert shown["settings"]["max-file-size"] == {
+        "value": "1KB",
+        "source": str(tmp_path / "xodrlint.toml"),
+    }
+    (tmp_path / "xodrlint.toml").write_text("max-file-size = -1\n", "utf-8")
+    bad = console("check", tmp_path / "clean.xodr")
+    assert bad.returncode == 2 and "'max-file-size' must be a positive size" in bad.stderr
+
+
+def shell(command: str) -> subprocess.CompletedProcess[str]:
+    """``command`` run by the shell: for redirections subprocess cannot express."""
+    if not CONSOLE_SCRIPT.is_file():
+        pytest.skip(f"no console script at {CONSOLE_SCRIPT}")
+    return subprocess.run(
+        command, shell=True, capture_output=True, text=True, timeout=HANG_GUARD_SECONDS, check=False
+    )
+
+
+def test_closed_stdin_is_one_line() -> None:
+    assert shell(f"{CONSOLE_SCRIPT} check - </dev/null").returncode == 1  # empty: one XS001
+    closed = shell(f"{CONSOLE_SCRIPT} check - <&-")
+    assert closed.returncode == 2
+    assert closed.stderr == "xodrlint: -: cannot read standard input: it is closed\n"
+
+
+def _unreadable_inputs(tmp_path: Path) -> list[Path]:
+    fifo = tmp_path / "pipe.xodr"
+    os.mkfifo(fifo)
+    return [BROKEN, tmp_path / "missing.xodr", fifo]
+
+
+def _check_document(output_format: str, text: str) -> None:
+    if output_format == "json":
+        document = json.loads(text)
+        jsonschema.validate(document, OUTPUT_SCHEMA)
+        assert document["summary"]["unreadable_files"] == 2
+    elif output_format == "sarif":
+        log = json.loads(text)
+        assert not list(sarif_validator().iter_errors(log))
+        notifications = log["runs"][0]["invocations"][0]["toolExecutionNotifications"]
+        assert sum("pipe.xodr" in n["message"]["text"] for n in notifications) == 1
+    elif output_format == "junit":
+        suites = JUnitXml.fromstring(text.encode("utf-8"))
+        assert suites.errors == 2
+    else:
+        issues = json.loads(text)
+        assert [i["check_name"] for i in issues].count("xodrlint:unreadable") == 2
+
+
+@pytest.mark.parametrize("output_format", ["json", "sarif", "junit", "gitlab"])
+def test_machine_formats_stay_complete_when_inputs_are_unreadable(
+    tmp_path: Path, output_format: str
+) -> None:
+    done = console("check", "-f", output_format, *_unreadable_inputs(tmp_path))
+    assert done.returncode == 2
+    assert len(done.stderr.splitlines()) == 2 and "Traceback" not in done.stderr
+    _check_document(output_format, done.stdout)
+
+
+def test_a_reader_that_stops_early_gets_one_line(tmp_path: Path) -> None:
+    for index in range(60):  # a report larger than a pipe's buffer
+        shutil.copyfile(BROKEN, tmp_path / f"b{index:02}.xodr")
+    done = shell(f"{CONSOLE_SCRIPT} check -f json {tmp_path} | head -c 1 >/dev/null")
+    assert done.stderr == "xodrlint: standard output: cannot write: broken pipe\n"
