@@ -11,6 +11,7 @@ import os
 import shutil
 import subprocess
 import sys
+import threading
 from pathlib import Path
 from typing import Any
 
@@ -136,7 +137,7 @@ def test_permission_denied_emulated(tmp_path: Path, monkeypatch: pytest.MonkeyPa
     (maps / "closed").mkdir()
     shutil.copyfile(CLEAN, maps / "closed" / "hidden.xodr")
     monkeypatch.setattr(os, "scandir", _refuse(os.scandir, maps / "closed"))
-    monkeypatch.setattr(Path, "read_bytes", _refuse(Path.read_bytes, maps / "locked.xodr"))
+    monkeypatch.setattr(os, "open", _refuse(os.open, maps / "locked.xodr"))
     result = CliRunner().invoke(app, ["check", str(maps), "-f", "json"])
     assert result.exit_code == 2
     assert result.stderr.splitlines() == [
@@ -253,3 +254,18 @@ def test_a_reader_that_stops_early_gets_one_line(tmp_path: Path) -> None:
         shutil.copyfile(BROKEN, tmp_path / f"b{index:02}.xodr")
     done = shell(f"{CONSOLE_SCRIPT} check -f json {tmp_path} | head -c 1 >/dev/null")
     assert done.stderr == "xodrlint: standard output: cannot write: broken pipe\n"
+
+
+def test_the_python_api_refuses_a_fifo_without_blocking(tmp_path: Path) -> None:
+    # lint_file opens without blocking and checks the open file: a FIFO with no writer
+    # would otherwise keep the caller waiting for ever
+    from xodrlint import lint_file
+
+    fifo = tmp_path / "pipe.xodr"
+    os.mkfifo(fifo)
+    done: list[Any] = []
+    worker = threading.Thread(target=lambda: done.append(lint_file(fifo)), daemon=True)
+    worker.start()
+    worker.join(timeout=30)
+    assert done, "lint_file blocked on a FIFO"
+    assert done[0].error == f"{fifo.as_posix()}: is a FIFO, not a regular file"

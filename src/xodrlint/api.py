@@ -19,6 +19,7 @@ from typing import Final, NamedTuple
 
 from xodrlint.config import DEFAULT_MAX_FILE_SIZE, format_size
 from xodrlint.engine import Linter, LintOptions
+from xodrlint.files import special_kind
 from xodrlint.findings import FileReport, Severity
 from xodrlint.registry import Registry, load_registry
 
@@ -189,7 +190,7 @@ def _checked(
     printable = printable_path(shown)
     if printable != shown:
         return Input(printable, path=path, error=f"{printable}: the file name is not valid UTF-8")
-    kind = _special_kind(status.st_mode)
+    kind = special_kind(status.st_mode)
     if kind is not None:
         if named:
             return Input(shown, path=path, error=f"{shown}: is {kind}, not a regular file")
@@ -203,20 +204,6 @@ def too_large(shown: str, max_file_size: int) -> str:
     """Why an input larger than ``max_file_size`` is not read."""
     limit = format_size(max_file_size)
     return f"{shown}: larger than the maximum file size ({limit}, see --max-file-size)"
-
-
-def _special_kind(mode: int) -> str | None:
-    """What a path that is neither a file nor a folder is; reading it would block (a
-    FIFO, a socket) or never end (``/dev/zero``)."""
-    for test, kind in (
-        (stat.S_ISFIFO, "a FIFO"),
-        (stat.S_ISCHR, "a character device"),
-        (stat.S_ISBLK, "a block device"),
-        (stat.S_ISSOCK, "a socket"),
-    ):
-        if test(mode):
-            return kind
-    return None
 
 
 def printable_path(name: str) -> str:

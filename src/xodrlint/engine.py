@@ -19,6 +19,7 @@ from typing import Final, NamedTuple
 from lxml import etree
 
 from xodrlint.document import Document, load_bytes
+from xodrlint.files import NotRegularFile, read_regular_file
 from xodrlint.findings import (
     FileReport,
     Finding,
@@ -182,7 +183,9 @@ class Linter:
     ) -> FileReport:
         shown = display or path.as_posix()
         try:
-            data = path.read_bytes()
+            data = read_regular_file(path)
+        except NotRegularFile as refused:
+            return FileReport(shown, error=f"{shown}: {refused}")
         except OSError as error:
             return FileReport(shown, error=_os_error(error, shown))
         return self.lint_bytes(data, shown, external)
