@@ -53,21 +53,28 @@ def _split(
     tolerance: float,
     samples: list[tuple[float, Point]],
     depth: int = 0,
+    known_middle: Point | None = None,
 ) -> None:
-    """Append the samples after ``first`` up to and including ``last``."""
+    """Append the samples after ``first`` up to and including ``last``.
+
+    The quarter points are only computed when the midpoint is within the tolerance, and
+    handed down as the halves' midpoints when they are not: no point is computed twice.
+    """
     s0, p0 = first
     s1, p1 = last
     middle = 0.5 * (s0 + s1)
-    pm = curve(middle)
-    straight = depth >= _MAX_DEPTH or all(
-        _distance_to_chord(point, p0, p1) <= tolerance
-        for point in (pm, curve(0.5 * (s0 + middle)), curve(0.5 * (middle + s1)))
-    )
-    if straight:
+    pm = known_middle if known_middle is not None else curve(middle)
+    if depth >= _MAX_DEPTH:
         samples.append(last)
         return
-    _split(curve, first, (middle, pm), tolerance, samples, depth + 1)
-    _split(curve, (middle, pm), last, tolerance, samples, depth + 1)
+    q1 = q3 = None
+    if _distance_to_chord(pm, p0, p1) <= tolerance:
+        q1, q3 = curve(0.5 * (s0 + middle)), curve(0.5 * (middle + s1))
+        if max(_distance_to_chord(q1, p0, p1), _distance_to_chord(q3, p0, p1)) <= tolerance:
+            samples.append(last)
+            return
+    _split(curve, first, (middle, pm), tolerance, samples, depth + 1, q1)
+    _split(curve, (middle, pm), last, tolerance, samples, depth + 1, q3)
 
 
 def start_pieces(max_curvature: float | None, length: float) -> int:
