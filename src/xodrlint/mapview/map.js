@@ -79,8 +79,18 @@
     schedule();
   }
 
+  var settling = 0;
+
+  function moving() {
+    // draw fast while the view moves, and crisp again once it rests
+    svg.classList.add("dragging");
+    window.clearTimeout(settling);
+    settling = window.setTimeout(function () { svg.classList.remove("dragging"); }, 200);
+  }
+
   svg.addEventListener("wheel", function (event) {
     event.preventDefault();
+    moving();
     var at = toUnits(event.clientX, event.clientY);
     zoomAt(Math.exp(event.deltaY * 0.0015), at.x, at.y);
   }, { passive: false });
@@ -96,7 +106,7 @@
     var dy = event.clientY - drag.y;
     if (!drag.moved && Math.abs(dx) + Math.abs(dy) < 4) { return; }
     drag.moved = true;
-    svg.classList.add("dragging");
+    moving();
     view.x -= dx * drag.upp;
     view.y -= dy * drag.upp;
     drag.x = event.clientX;
@@ -106,7 +116,6 @@
   svg.addEventListener("pointerup", function (event) {
     var wasClick = drag && !drag.moved;
     drag = null;
-    svg.classList.remove("dragging");
     // the pointer is captured by the svg: find the marker under it ourselves
     var target = wasClick ? document.elementFromPoint(event.clientX, event.clientY) : null;
     if (target && target.classList.contains("finding")) {

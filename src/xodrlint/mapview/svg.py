@@ -40,9 +40,14 @@ class Frame:
     height: int
 
     @property
+    def units_per_pixel(self) -> float:
+        """The scale of the whole drawing shown 1,000 pixels wide (the page sets its own)."""
+        return max(self.width, self.height) / 1000
+
+    @property
     def marker(self) -> int:
-        """A marker radius that reads at the whole drawing's scale (the page rescales it)."""
-        return max(1, round(max(self.width, self.height) / 250))
+        """A marker radius for viewers that size circles by attribute only."""
+        return max(1, round(self.units_per_pixel * 6))
 
     def view_box(self) -> str:
         return f"{self.x} {self.y} {self.width} {self.height}"
@@ -109,7 +114,8 @@ def render_svg(
     roads_markup, road_index = _roads(scene.roads)
     parts = [
         f'<svg xmlns="http://www.w3.org/2000/svg" id="map" viewBox="{frame.view_box()}" '
-        f'data-units-per-metre="{UNITS_PER_METRE}" preserveAspectRatio="xMidYMid meet">'
+        f'data-units-per-metre="{UNITS_PER_METRE}" preserveAspectRatio="xMidYMid meet" '
+        f'style="--upp:{frame.units_per_pixel:.4g}">'
     ]
     if style:
         parts.append(f"<style>{style}</style>")
