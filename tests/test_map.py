@@ -248,3 +248,13 @@ def test_the_berlin_map_renders_in_seconds_into_a_page_of_reasonable_size(tmp_pa
     assert _count(svg, "track") == 109 and _count(svg, "finding") == 109
     assert size < 2_000_000
     assert seconds < 30  # about 5 s on a 2-core machine; the margin is for a busy CI
+
+
+def test_the_screenshots_are_in_the_readme_and_the_map_page() -> None:
+    readme = (REPO / "README.md").read_text("utf-8")
+    page = (REPO / "docs" / "map.md").read_text("utf-8")
+    names = ("map-asam-switch.png", "map-asam-station.png", "map-broken.png")
+    for name in names:
+        image = REPO / "docs" / "images" / name
+        assert image.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", name
+        assert f"](docs/images/{name})" in readme and f"](images/{name})" in page

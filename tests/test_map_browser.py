@@ -4,8 +4,10 @@ search, hover, and a screenshot."""
 
 from __future__ import annotations
 
+import importlib.util
 from collections.abc import Iterator
 from pathlib import Path
+from types import ModuleType
 
 import pytest
 from lxml import etree
@@ -17,23 +19,23 @@ from selenium.webdriver.common.keys import Keys
 from selenium.webdriver.remote.webdriver import WebDriver
 from selenium.webdriver.support.ui import WebDriverWait
 
-from .conftest import CORPUS_RAIL
+from .conftest import CORPUS_RAIL, REPO
 from .test_cli import BROKEN, cli
 
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMEDRIVER = Path("/usr/bin/chromedriver")
-#: The machine's network is closed: nothing may try to reach it (updates, sync, QUIC).
-FLAGS = (
-    "--headless",
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-quic",
-    "--no-first-run",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--window-size=1400,900",
-)
+
+
+def _screenshots_script() -> ModuleType:
+    """docs/screenshots.py, whose Chromium flags the test shares."""
+    spec = importlib.util.spec_from_file_location("screenshots", REPO / "docs" / "screenshots.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+FLAGS: tuple[str, ...] = (*_screenshots_script().HEADLESS_FLAGS, "--window-size=1400,900")
 STATION = CORPUS_RAIL / "ASAM-1.7.0_Ex_Railway-Station.xodr"
 
 pytestmark = pytest.mark.skipif(
