@@ -152,6 +152,8 @@ def _geometry(xml: str) -> etree._Element:
     ("xml", "reason"),
     [
         ("", "geometry has no line, arc, spiral, poly3 or paramPoly3"),
+        # 10 m at a 0.1 m radius: sixteen full circles, a data error rather than a track
+        ('<arc curvature="10"/>', "geometry turns 100 rad in 10 m: not drawn"),
         ('<arc curvature="x"/>', "'arc' lacks a readable '@curvature'"),
         (
             '<paramPoly3 aU="0" bU="1" cU="0" dU="0" aV="0" bV="0" cV="0" dV="0" pRange="meters"/>',

@@ -4,6 +4,7 @@ broken input, and the Berlin map's render time and size."""
 from __future__ import annotations
 
 import json
+import math
 import re
 import subprocess
 import sys
@@ -11,6 +12,8 @@ import time
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from lxml import etree
 
 from xodrlint.document import load_bytes
@@ -258,3 +261,69 @@ def test_the_screenshots_are_in_the_readme_and_the_map_page() -> None:
         image = REPO / "docs" / "images" / name
         assert image.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", name
         assert f"](docs/images/{name})" in readme and f"](images/{name})" in page
+
+
+CURVES = {
+    "line": (),
+    "arc": ("curvature",),
+    "spiral": ("curvStart", "curvEnd"),
+    "poly3": ("a", "b", "c", "d"),
+    "paramPoly3": ("aU", "bU", "cU", "dU", "aV", "bV", "cV", "dV"),
+}
+_ODD_NUMBERS = st.sampled_from(
+    ["0", "1", "-1", "10", "1e-300", "1e300", "1.7e308", "-1e308", "nan", "INF", "", "x", "1e9"]
+)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    st.lists(
+        st.tuples(
+            st.sampled_from(sorted(CURVES)), st.lists(_ODD_NUMBERS, min_size=13, max_size=13)
+        ),
+        min_size=1,
+        max_size=3,
+    )
+)
+def test_any_geometry_values_give_a_map_and_never_an_error(
+    records: list[tuple[str, list[str]]],
+) -> None:
+    geometries = []
+    for tag, values in records:
+        s, x, y, hdg, length, *rest = values
+        coefficients = " ".join(
+            f'{name}="{value}"' for name, value in zip(CURVES[tag], rest, strict=False)
+        )
+        geometries.append(
+            f'<geometry s="{s}" x="{x}" y="{y}" hdg="{hdg}" length="{length}">'
+            f"<{tag} {coefficients}/></geometry>"
+        )
+    track = ONE_TRACK.format(geometry="".join(geometries))
+    html = _render(MINIMAL.format(roads=track))
+    assert _svg(html).get("viewBox")
+    assert "nan" not in (_svg(html).get("viewBox") or "").lower()
+
+
+@pytest.mark.parametrize(
+    "geometry",
+    [
+        '<geometry s="0" x="1.7e308" y="0" hdg="0" length="10"><line/></geometry>',
+        '<geometry s="0" x="0" y="0" hdg="0" length="1e7"><arc curvature="1"/></geometry>',
+        '<geometry s="0" x="0" y="0" hdg="0" length="10"><spiral curvStart="0" curvEnd="1e300"/></geometry>',
+        '<geometry s="0" x="0" y="0" hdg="0" length="10"><poly3 a="0" b="0" c="0" d="1e300"/></geometry>',
+        '<geometry s="0" x="0" y="0" hdg="0" length="10"><paramPoly3 aU="0" bU="1e308" cU="1e308" dU="0" aV="0" bV="0" cV="0" dV="0"/></geometry>',
+    ],
+    ids=[
+        "overflowing-x",
+        "10000-km-circle",
+        "huge-curvature",
+        "huge-poly3",
+        "overflowing-param-poly3",
+    ],
+)
+def test_absurd_geometry_is_drawn_quickly_as_far_as_it_can_be(geometry: str) -> None:
+    started = time.perf_counter()
+    html = _render(MINIMAL.format(roads=ONE_TRACK.format(geometry=geometry)))
+    assert time.perf_counter() - started < 10
+    view_box = [float(value) for value in (_svg(html).get("viewBox") or "").split()]
+    assert len(view_box) == 4 and all(math.isfinite(value) for value in view_box)

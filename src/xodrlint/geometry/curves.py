@@ -19,6 +19,12 @@ from typing import Final, NamedTuple
 #: cos and sin of a quadratic phase to about 1e-15 relative error.
 _PANEL_TURN: Final = 0.25
 _NODES: Final = 8
+#: Panels one integral may use at most: enough for the largest turn a record may have
+#: (:data:`MAX_TURN`); a bound on the work any one point costs.
+_MAX_PANELS: Final = 256
+#: The most a record may turn, in radians (about ten full circles): no track or road does,
+#: and a record that would is a data error, listed rather than drawn.
+MAX_TURN: Final = 64.0
 
 
 class Pose(NamedTuple):
@@ -71,7 +77,7 @@ def integrate(
 
 
 def _panels(turn: float) -> int:
-    return max(1, math.ceil(abs(turn) / _PANEL_TURN))
+    return max(1, math.ceil(min(abs(turn) / _PANEL_TURN, _MAX_PANELS)))
 
 
 @dataclass(frozen=True, slots=True)

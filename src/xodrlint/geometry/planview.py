@@ -10,7 +10,16 @@ from typing import Final, NamedTuple
 
 from lxml import etree
 
-from xodrlint.geometry.curves import Arc, Line, ParamPoly3, Poly3, Pose, Record, Spiral
+from xodrlint.geometry.curves import (
+    MAX_TURN,
+    Arc,
+    Line,
+    ParamPoly3,
+    Poly3,
+    Pose,
+    Record,
+    Spiral,
+)
 from xodrlint.model import number
 
 #: The curve elements a ``geometry`` record may hold.
@@ -105,8 +114,11 @@ def read_record(element: etree._Element, length_fallback: float | None = None) -
     curve = next((child for child in element if child.tag in CURVE_TAGS), None)
     if curve is None:
         return "geometry has no line, arc, spiral, poly3 or paramPoly3"
-    base = (s, x, y, hdg, length)
-    return _curve(curve, base)
+    record = _curve(curve, (s, x, y, hdg, length))
+    bound = record.max_curvature() if isinstance(record, Record) else None
+    if bound is not None and bound * length > MAX_TURN:
+        return f"geometry turns {bound * length:.3g} rad in {length:g} m: not drawn"
+    return record
 
 
 def _coefficients(element: etree._Element, names: Sequence[str]) -> list[float] | str:

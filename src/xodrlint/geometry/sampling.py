@@ -20,6 +20,18 @@ Point = tuple[float, float]
 #: The deepest a piece is split: 2**16 pieces per record is far more than any drawing needs.
 _MAX_DEPTH: Final = 16
 _START_TURN: Final = 0.5
+#: Samples one record may have at most: a curve that still strays from its chords after
+#: that many (a poly3 with absurd coefficients) must not hold the drawing up.
+_MAX_SAMPLES: Final = 4096
+#: Coordinates beyond a million kilometres belong to no map (and would overflow when
+#: written in centimetres): such points are not drawn.
+MAX_COORDINATE: Final = 1e9
+
+
+def drawable(point: Point) -> bool:
+    return abs(point[0]) < MAX_COORDINATE and abs(point[1]) < MAX_COORDINATE
+
+
 #: Pieces a curve of unknown curvature (poly3, paramPoly3) starts from.
 _UNKNOWN_CURVATURE_PIECES: Final = 4
 
@@ -64,7 +76,7 @@ def _split(
     s1, p1 = last
     middle = 0.5 * (s0 + s1)
     pm = known_middle if known_middle is not None else curve(middle)
-    if depth >= _MAX_DEPTH:
+    if depth >= _MAX_DEPTH or len(samples) >= _MAX_SAMPLES or not drawable(pm):
         samples.append(last)
         return
     q1 = q3 = None
@@ -81,7 +93,7 @@ def start_pieces(max_curvature: float | None, length: float) -> int:
     """How many pieces a record starts from before it is split adaptively."""
     if max_curvature is None:
         return _UNKNOWN_CURVATURE_PIECES
-    return max(1, math.ceil(max_curvature * length / _START_TURN))
+    return max(1, math.ceil(min(max_curvature * length / _START_TURN, _MAX_SAMPLES)))
 
 
 def polylines(
@@ -110,7 +122,13 @@ def polylines(
         if current and math.dist(current[-1], samples[0]) > tolerance:
             runs.append(current)
             current = []
-        current.extend(samples[1:] if current else samples)
+        for index, point in enumerate(samples):
+            if not drawable(point):  # NaN fails the test too
+                # a value past any map's extent: the run ends, the rest is not drawn
+                runs.append(current)
+                current = []
+            elif index > 0 or not current:  # a record starts where the previous one ended
+                current.append(point)
     if current:
         runs.append(current)
     return [run for run in runs if len(run) > 1]

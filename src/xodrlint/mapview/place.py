@@ -9,6 +9,7 @@ from typing import Final
 from lxml import etree
 
 from xodrlint.geometry import Pose, ReferenceLine, reference_line
+from xodrlint.geometry.sampling import drawable
 from xodrlint.model import Lane, LaneSection, RailNetwork, Road, Segment, number
 from xodrlint.profile import Piecewise, centre_terms, lane_offset
 
@@ -50,8 +51,11 @@ class Placer:
         return self.line(road).pose(_clamp(s, road.length))
 
     def point(self, road: Road, s: float, lateral: float = 0.0) -> Point | None:
+        """The point ``lateral`` metres left of ``road``'s reference line at ``s``; ``None``
+        where no record covers ``s`` or the numbers run past any map."""
         pose = self.pose(road, s)
-        return pose.offset(lateral) if pose is not None else None
+        point = pose.offset(lateral) if pose is not None else None
+        return point if point is not None and drawable(point) else None
 
     def track_lateral(self, road: Road, s: float) -> float:
         """The lateral offset of ``road``'s first rail lane at ``s``; else its lane offset."""
@@ -100,7 +104,7 @@ class Placer:
         """A lane's centre at the start of its lane section (the section's start if the
         centre cannot be computed)."""
         for section, start, _ in road.section_ranges():
-            if section.element is not lane_element.getparent().getparent():  # type: ignore[union-attr]
+            if lane_element not in section.element.iter("lane"):
                 continue
             lane = next((lane for lane in section.lanes if lane.element is lane_element), None)
             terms = _lane_terms(road, section, start, lane)
@@ -130,4 +134,4 @@ def _clamp(s: float, length: float | None) -> float:
 
 def geometry_start(element: etree._Element) -> Point | None:
     x, y = number(element, "x"), number(element, "y")
-    return (x, y) if x is not None and y is not None else None
+    return (x, y) if x is not None and y is not None and drawable((x, y)) else None
