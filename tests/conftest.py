@@ -35,23 +35,37 @@ def isolated_schemas(
 NETWORK_FAMILIES = (socket.AF_INET, socket.AF_INET6)
 
 
+LOOPBACK_HOSTS = frozenset({"localhost", "127.0.0.1", "::1"})
+
+
 @pytest.fixture(autouse=True)
-def network_attempts(monkeypatch: pytest.MonkeyPatch) -> Iterator[list[str]]:
+def network_attempts(
+    monkeypatch: pytest.MonkeyPatch, request: pytest.FixtureRequest
+) -> Iterator[list[str]]:
     """xodrlint never goes on the network (schemas are fetched in tests from a local wheel),
     so any TCP or UDP connection a test makes is refused and fails it at teardown, even if
-    the code under test swallowed the error. Local sockets (pipes of worker pools) pass."""
+    the code under test swallowed the error. Local sockets (pipes of worker pools) pass,
+    and so does loopback in a test marked ``loopback`` (selenium talks to chromedriver)."""
     attempts: list[str] = []
+    loopback = request.node.get_closest_marker("loopback") is not None
+
+    def allowed(address: Any) -> bool:
+        return loopback and isinstance(address, tuple) and address[0] in LOOPBACK_HOSTS
 
     def guarded(real: Callable[..., Any]) -> Callable[..., Any]:
         def connect(self: socket.socket, address: Any, *args: Any) -> Any:
-            if self.family in NETWORK_FAMILIES:
+            if self.family in NETWORK_FAMILIES and not allowed(address):
                 attempts.append(repr(address))
                 raise ConnectionRefusedError(f"test network guard: connection to {address!r}")
             return real(self, address, *args)
 
         return connect
 
+    real_create_connection = socket.create_connection
+
     def create_connection(address: Any, *args: Any, **kwargs: Any) -> socket.socket:
+        if allowed(address):
+            return real_create_connection(address, *args, **kwargs)
         attempts.append(repr(address))
         raise ConnectionRefusedError(f"test network guard: connection to {address!r}")
 

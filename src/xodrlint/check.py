@@ -147,15 +147,7 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
     for warning in registry.warnings:
         error_line(f"warning: {warning}")
     try:
-        resolve_rule_options(registry, request.rule_options)  # names the command line got
-        settings = resolve_settings(
-            registry,
-            request.paths,
-            config=request.config,
-            isolated=request.isolated,
-            overrides=_overrides(request),
-        )
-        linter = _linter(registry, settings, request)
+        settings, linter = prepare_linter(registry, request)
         formatter = formatter or _formatter(settings.output_format, request)
         inputs = _inputs(request, settings)
         _check_output_target("--output", request.output, inputs)
@@ -210,6 +202,22 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
         error_line(f"{where}: cannot write: {os_reason(error)}")
         return 2
     return exit_code(reports, settings.fail_on, request.exit_zero)
+
+
+def prepare_linter(registry: Registry, request: CheckRequest) -> tuple[Settings, Linter]:
+    """The effective settings of ``request`` and a linter that applies them (``map`` lints
+    with exactly what ``check`` would). Raises the errors ``run_check`` reports as usage
+    errors: :class:`ConfigError`, :class:`SelectorError`, :class:`OptionError`,
+    :class:`UsageError`."""
+    resolve_rule_options(registry, request.rule_options)  # names the command line got
+    settings = resolve_settings(
+        registry,
+        request.paths,
+        config=request.config,
+        isolated=request.isolated,
+        overrides=_overrides(request),
+    )
+    return settings, _linter(registry, settings, request)
 
 
 def _linter(registry: Registry, settings: Settings, request: CheckRequest) -> Linter:

@@ -319,6 +319,49 @@ def qc_command(
     raise typer.Exit(run_qc(config, input_file, output, manifest))
 
 
+@app.command("map")
+def map_command(
+    path: Annotated[str, typer.Argument(help="The .xodr file to draw.")],
+    output: Annotated[
+        str,
+        typer.Option(
+            "--output", "-o", help="The page to write: FILE.html (interactive) or FILE.svg."
+        ),
+    ],
+    select: Annotated[list[str] | None, typer.Option(help="As for check.")] = None,
+    extend_select: Annotated[list[str] | None, typer.Option(help="As for check.")] = None,
+    ignore: Annotated[list[str] | None, typer.Option(help="As for check.")] = None,
+    fail_on: Annotated[FailOn | None, typer.Option(help="As for check.")] = None,
+    schema: Annotated[Path | None, typer.Option(help="As for check.")] = None,
+    config: Annotated[Path | None, typer.Option(help="As for check.")] = None,
+    isolated: Annotated[bool, typer.Option("--isolated", help="As for check.")] = False,
+    rail_min_width: Annotated[float | None, typer.Option(help="As for check.")] = None,
+    refline_tolerance: Annotated[float | None, typer.Option(help="As for check.")] = None,
+    rule_option: Annotated[list[str] | None, typer.Option(help="As for check.")] = None,
+) -> None:
+    """Draw the network with every finding on it: a self-contained HTML page or an SVG."""
+    from xodrlint.check import CheckRequest
+    from xodrlint.mapview.command import MapRequest, run_map
+
+    lint = CheckRequest(
+        paths=(path,),
+        select=_split(select) or None,
+        extend_select=_split(extend_select) or None,
+        ignore=_split(ignore) or None,
+        fail_on=str(fail_on) if fail_on is not None else None,
+        schema=schema,
+        config=config,
+        isolated=isolated,
+        rule_options={
+            **_named_options(rule_option or []),
+            **_rule_options(
+                {"rail-min-width": rail_min_width, "refline-tolerance": refline_tolerance}
+            ),
+        },
+    )
+    raise typer.Exit(run_map(MapRequest(lint, output)))
+
+
 @app.command("config")
 def config_command(
     paths: Annotated[

@@ -1,0 +1,156 @@
+"""A road's reference line, read from its ``planView``: the records that can be used, and
+a readable reason for each one that cannot (drawn as far as possible, never raised)."""
+
+from __future__ import annotations
+
+import bisect
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Final, NamedTuple
+
+from lxml import etree
+
+from xodrlint.geometry.curves import (
+    MAX_TURN,
+    Arc,
+    Line,
+    ParamPoly3,
+    Poly3,
+    Pose,
+    Record,
+    Spiral,
+)
+from xodrlint.model import number
+
+#: The curve elements a ``geometry`` record may hold.
+CURVE_TAGS: Final = ("line", "arc", "spiral", "poly3", "paramPoly3")
+
+
+class GeometryProblem(NamedTuple):
+    """A record (or a road) whose geometry cannot be drawn, and why."""
+
+    element: etree._Element
+    road_id: str | None
+    message: str
+
+
+@dataclass(frozen=True)
+class ReferenceLine:
+    """The usable records of one road, in order of s."""
+
+    records: tuple[Record, ...]
+    problems: tuple[GeometryProblem, ...] = ()
+    starts: tuple[float, ...] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        ordered = tuple(sorted(self.records, key=lambda record: record.s))
+        object.__setattr__(self, "records", ordered)
+        object.__setattr__(self, "starts", tuple(record.s for record in ordered))
+
+    def record_at(self, s: float) -> Record | None:
+        """The record that covers ``s`` (the nearest end within 1 mm counts as covering)."""
+        index = bisect.bisect_right(self.starts, s) - 1
+        candidates = [self.records[i] for i in (index, index + 1) if 0 <= i < len(self.records)]
+        for record in candidates:
+            if record.s - 1e-3 <= s <= record.s + record.length + 1e-3:
+                return record
+        return None
+
+    def pose(self, s: float) -> Pose | None:
+        """The pose at ``s``; ``None`` where no usable record covers it."""
+        record = self.record_at(s)
+        if record is None:
+            return None
+        return record.pose_at(min(max(s - record.s, 0.0), record.length))
+
+    @property
+    def s_range(self) -> tuple[float, float] | None:
+        if not self.records:
+            return None
+        last = self.records[-1]
+        return self.records[0].s, last.s + last.length
+
+
+def reference_line(road: etree._Element) -> ReferenceLine:
+    """Every usable record of ``road``'s ``planView``; the others as problems."""
+    road_id = road.get("id")
+    records: list[Record] = []
+    problems: list[GeometryProblem] = []
+    plan_view = road.find("planView")
+    geometries = plan_view.findall("geometry") if plan_view is not None else []
+    if not geometries:
+        problems.append(GeometryProblem(road, road_id, "road has no planView geometry"))
+    for index, element in enumerate(geometries):
+        following = geometries[index + 1] if index + 1 < len(geometries) else None
+        record = read_record(element, _length_fallback(element, following, road))
+        if isinstance(record, str):
+            problems.append(GeometryProblem(element, road_id, record))
+        else:
+            records.append(record)
+    return ReferenceLine(tuple(records), tuple(problems))
+
+
+def _length_fallback(
+    element: etree._Element, following: etree._Element | None, road: etree._Element
+) -> float | None:
+    """A record's length where its own is missing: up to the next record or the road end."""
+    start = number(element, "s")
+    end = number(following, "s") if following is not None else number(road, "length")
+    return end - start if start is not None and end is not None and end > start else None
+
+
+def read_record(element: etree._Element, length_fallback: float | None = None) -> Record | str:
+    """The record of a ``geometry`` element, or why it cannot be drawn."""
+    values = {name: number(element, name) for name in ("s", "x", "y", "hdg", "length")}
+    if values["length"] is None:
+        values["length"] = length_fallback
+    missing = [name for name, value in values.items() if value is None]
+    if missing:
+        listed = ", ".join(f"'@{name}'" for name in missing)
+        return f"geometry lacks a readable {listed}"
+    s, x, y, hdg, length = (float(values[n] or 0.0) for n in ("s", "x", "y", "hdg", "length"))
+    if length < 0:
+        return f"geometry has a negative length ({length:g})"
+    curve = next((child for child in element if child.tag in CURVE_TAGS), None)
+    if curve is None:
+        return "geometry has no line, arc, spiral, poly3 or paramPoly3"
+    record = _curve(curve, (s, x, y, hdg, length))
+    bound = record.max_curvature() if isinstance(record, Record) else None
+    if bound is not None and bound * length > MAX_TURN:
+        return f"geometry turns {bound * length:.3g} rad in {length:g} m: not drawn"
+    return record
+
+
+def _coefficients(element: etree._Element, names: Sequence[str]) -> list[float] | str:
+    found = [number(element, name) for name in names]
+    bad = [name for name, value in zip(names, found, strict=True) if value is None]
+    if bad:
+        return f"'{element.tag}' lacks a readable " + ", ".join(f"'@{name}'" for name in bad)
+    return [value or 0.0 for value in found]
+
+
+def _curve(curve: etree._Element, base: tuple[float, float, float, float, float]) -> Record | str:
+    tag = curve.tag
+    if tag == "line":
+        return Line(*base)
+    names = {
+        "arc": ("curvature",),
+        "spiral": ("curvStart", "curvEnd"),
+        "poly3": ("a", "b", "c", "d"),
+        "paramPoly3": ("aU", "bU", "cU", "dU", "aV", "bV", "cV", "dV"),
+    }[str(tag)]
+    values = _coefficients(curve, names)
+    if isinstance(values, str):
+        return values
+    if tag == "arc":
+        return Arc(*base, values[0])
+    if tag == "spiral":
+        return Spiral(*base, values[0], values[1])
+    if tag == "poly3":
+        return Poly3(*base, *values)
+    p_range = curve.get("pRange", "normalized")
+    if p_range not in ("normalized", "arcLength"):
+        return f"paramPoly3 has pRange '{p_range}', expected 'arcLength' or 'normalized'"
+    u = (values[0], values[1], values[2], values[3])
+    v = (values[4], values[5], values[6], values[7])
+    return ParamPoly3(*base, u, v, p_range == "normalized")

@@ -1,0 +1,161 @@
+"""``xodrlint map FILE -o map.html|map.svg``: lint the file as ``check`` would, print the
+findings, and draw the network with every finding on it.
+
+Exit codes are ``check``'s: 0 nothing at or above ``--fail-on``, 1 findings, 2 usage or
+input errors (one line), 3 internal errors. A file that is not an OpenDRIVE document
+(XS001, XS002) gets its findings printed and no picture (exit 1).
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+import sys
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+from functools import partial
+from pathlib import Path
+from typing import Final, TextIO
+
+from xodrlint import __version__
+from xodrlint.api import default_registry, exit_code
+from xodrlint.check import CheckRequest, UsageError, prepare_linter, run_notes
+from xodrlint.config import ConfigError
+from xodrlint.document import Document, load_bytes
+from xodrlint.engine import OptionError, SelectorError
+from xodrlint.findings import FileReport, Finding, RunResult
+from xodrlint.formatters import get_formatter
+from xodrlint.mapview.locate import Locator
+from xodrlint.mapview.page import html_page, standalone_svg
+from xodrlint.mapview.place import Placer
+from xodrlint.mapview.scene import Scene, build_scene
+from xodrlint.mapview.svg import PlacedFinding, frame_of
+from xodrlint.model import build_network
+from xodrlint.output import error_line, write_output
+from xodrlint.registry import Registry
+from xodrlint.schemas import SchemaLoadError
+
+#: Chord tolerance of the drawing in metres: finer than the 1 cm the coordinates keep
+#: would only add points.
+DEFAULT_TOLERANCE: Final = 0.05
+KINDS: Final = {".html": "html", ".htm": "html", ".svg": "svg"}
+
+
+@dataclass(frozen=True)
+class MapRequest:
+    """A map of ``check.paths[0]`` to ``output``, linted with ``check``'s options."""
+
+    check: CheckRequest
+    output: str
+    tolerance: float = DEFAULT_TOLERANCE
+
+
+@dataclass(frozen=True)
+class RenderedMap:
+    text: str
+    scene: Scene
+    findings: tuple[PlacedFinding, ...]
+
+
+def run_map(request: MapRequest) -> int:
+    registry = default_registry()
+    for warning in registry.warnings:
+        error_line(f"warning: {warning}")
+    source = Path(request.check.paths[0])
+    try:
+        kind = _output_kind(request.output, source)
+        settings, linter = prepare_linter(registry, request.check)
+        data = _read(source)
+        report = linter.lint_bytes(data, request.check.paths[0])
+    except (ConfigError, SelectorError, OptionError, UsageError, SchemaLoadError) as error:
+        error_line(str(error))
+        return 2
+    _print_report(registry, report)
+    doc = load_bytes(data, report.path)
+    if not doc.is_opendrive:
+        error_line(f"no map written: {report.path} is not an OpenDRIVE document")
+        return 3 if report.internal_errors else 1
+    started = time.perf_counter()
+    rendered = render_map(doc, report.findings, kind, request.tolerance)
+    try:
+        write_output(request.output, partial(_write, rendered.text))
+    except OSError as error:
+        error_line(f"--output {request.output}: cannot write: {error.strerror or error}")
+        return 2
+    _print_written(request.output, rendered, time.perf_counter() - started)
+    return exit_code([report], settings.fail_on, exit_zero=False)
+
+
+def render_map(
+    doc: Document, findings: Sequence[Finding], kind: str, tolerance: float
+) -> RenderedMap:
+    """The page (``kind`` "html") or standalone SVG of an OpenDRIVE document."""
+    assert doc.tree is not None
+    network = build_network(doc.root)
+    placer = Placer(network)
+    scene = build_scene(doc, network, placer, tolerance)
+    locator = Locator(doc.tree, network, placer)
+    placed = tuple(
+        PlacedFinding(index, finding, locator.place(finding))
+        for index, finding in enumerate(findings)
+    )
+    markers = (item.at for item in placed if item.at is not None)
+    frame = frame_of(itertools.chain(scene.points(), markers))
+    if kind == "svg":
+        text = standalone_svg(scene, placed, frame)
+    else:
+        text = html_page(doc.path, scene, placed, frame)
+    return RenderedMap(text, scene, placed)
+
+
+def _write(text: str, stream: TextIO) -> None:
+    stream.write(text)
+
+
+def _output_kind(output: str, source: Path) -> str:
+    kind = KINDS.get(Path(output).suffix.lower())
+    if kind is None:
+        raise UsageError(f"--output {output}: name a .html or .svg file")
+    target = Path(output)
+    if target.is_dir():
+        raise UsageError(f"--output {output}: is a folder")
+    if not (target.parent if str(target.parent) else Path()).is_dir():
+        raise UsageError(f"--output {output}: its folder {target.parent} does not exist")
+    if source.exists() and os.path.realpath(source) == os.path.realpath(target):
+        raise UsageError(f"--output {output}: is the input; refusing to overwrite it")
+    return kind
+
+
+def _read(source: Path) -> bytes:
+    if source.is_dir():
+        raise UsageError(f"{source}: is a folder; map takes one .xodr file")
+    try:
+        return source.read_bytes()
+    except OSError as error:
+        reason = error.strerror or type(error).__name__
+        raise UsageError(f"{source}: {reason[:1].lower()}{reason[1:]}") from None
+
+
+def _print_report(registry: Registry, report: FileReport) -> None:
+    for crash in report.internal_errors:
+        error_line(f"internal error: {crash}")
+    result = RunResult(
+        (report,), registry.metas, __version__, notes=run_notes([report]), root=str(Path.cwd())
+    )
+    get_formatter("text").render(result, sys.stdout)
+    sys.stdout.flush()
+
+
+def _print_written(output: str, rendered: RenderedMap, seconds: float) -> None:
+    scene = rendered.scene
+    placed = sum(1 for item in rendered.findings if item.at is not None)
+    size = len(rendered.text.encode("utf-8"))
+    print(
+        f"xodrlint: wrote {output} ({size / 1e6:.2f} MB in {seconds:.1f} s): "
+        f"{scene.road_count()} roads, "
+        f"{len(scene.switches)} switches, {len(scene.platforms)} platform segments, "
+        f"{placed} of {len(rendered.findings)} findings placed, "
+        f"{len(scene.not_drawn)} items not drawn",
+        file=sys.stderr,
+    )
