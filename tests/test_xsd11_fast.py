@@ -737,6 +737,23 @@ def test_the_first_stage_needs_no_xmlschema_model_where_no_alternative_can_apply
             first()
 
 
+def test_a_site_the_byte_scan_misses_is_validated_with_its_marks(
+    pairs: dict[str, Pair],
+) -> None:
+    # a prefixed '<od:junction' escapes the scan for '<junction': the first stage runs
+    # libxml2 without the marks, and the parent, whose plan finds them, validates again
+    data = _document("1.9.0", ALTERNATIVE_CASES["connection", "@type='virtual'"]).decode()
+    legacy = "http://code.asam.net/simulation/standard/opendrive_schema"
+    data = re.sub(r"<(/?)(?=[A-Za-z])", r"<\1od:", data.split("?>", 1)[1])
+    data = data.replace("<od:OpenDRIVE", f'<od:OpenDRIVE xmlns:od="{legacy}"', 1)
+    doc = load_bytes(data.encode(), "prefixed.xodr")
+    assert doc.tree is not None and doc.tree.getroot().find("junction") is not None
+    fast = pairs["1.9.0"].fast
+    assert fast.form.alternative_sites is not None
+    assert not xsd11_fast._holds_a_site(doc, doc.tree.getroot(), fast.form.alternative_sites)
+    assert _same_findings(pairs["1.9.0"], data.encode(), "prefixed")
+
+
 @pytest.mark.parametrize("child", ["forked", "dies"])
 def test_the_fast_path_in_a_forked_child_marks_types_there_or_in_the_fallback(
     pairs: dict[str, Pair], monkeypatch: pytest.MonkeyPatch, child: str

@@ -708,7 +708,7 @@ class FastXsd11Validator:
         assert doc.tree is not None
         root = doc.tree.getroot()
         sites = self.form.alternative_sites
-        if sites is None or self._unsupported is not None or _holds_a_site(root, sites):
+        if sites is None or self._unsupported is not None or _holds_a_site(doc, root, sites):
             return (lambda: list(self.hits(doc))), list
         return (lambda: list(self._libxml2.hits(doc))), lambda raw: self._finish(doc, raw)
 
@@ -815,13 +815,34 @@ class FastXsd11Validator:
         return identities
 
 
-def _holds_a_site(root: etree._Element, sites: frozenset[tuple[str, str]]) -> bool:
-    for parent, tag in sites:
-        for element in root.iter(tag):
-            above = element.getparent()
-            if (above.tag if above is not None else "") == parent:
-                return True
+def _holds_a_site(doc: Document, root: etree._Element, sites: frozenset[tuple[str, str]]) -> bool:
+    """Does an element stand where a type alternative may apply? The bytes rule most
+    sites out at once (a site needs both names in the file); the tree is walked, in one
+    pass, only for the sites left. A prefixed name the bytes miss costs time, not
+    correctness: the plan made afterwards finds the marks, and the parent validates
+    with them (:meth:`FastXsd11Validator._finish`)."""
+    if _bytes_searchable(doc):
+        present: dict[str, bool] = {}
+
+        def named(name: str) -> bool:
+            if name not in present:
+                present[name] = b"<" + name.encode() in doc.data
+            return present[name]
+
+        sites = frozenset(site for site in sites if all(named(n) for n in site if n))
+    if not sites:
+        return False
+    for element in root.iter(*{tag for _, tag in sites}):
+        above = element.getparent()
+        if ((above.tag if above is not None else ""), element.tag) in sites:
+            return True
     return False
+
+
+def _bytes_searchable(doc: Document) -> bool:
+    """Is the file in an encoding where markup is ASCII bytes (not UTF-16 or UTF-32)?"""
+    encoding = (doc.tree.docinfo.encoding if doc.tree is not None else None) or "utf-8"
+    return not encoding.lower().replace("-", "").startswith(("utf16", "utf32", "ucs"))
 
 
 def _needs_xsd11_reading(doc: Document, root: etree._Element) -> bool:
@@ -830,8 +851,7 @@ def _needs_xsd11_reading(doc: Document, root: etree._Element) -> bool:
     An ``xsi:type`` (or ``xsi:nil``) of the file's own would meet the ones the type
     alternatives set; ``+INF`` is a number in XSD 1.1 and not in XSD 1.0.
     """
-    encoding = (doc.tree.docinfo.encoding if doc.tree is not None else None) or "utf-8"
-    ascii_bytes = not encoding.lower().replace("-", "").startswith(("utf16", "utf32", "ucs"))
+    ascii_bytes = _bytes_searchable(doc)
     # the usual case, answered from the bytes: no prefixed 'type' or 'nil' attribute and
     # no '+INF' at all (the tree is asked only when the bytes cannot tell)
     if ascii_bytes and not _PREFIXED_TYPE_OR_NIL.search(doc.data) and b"+INF" not in doc.data:
