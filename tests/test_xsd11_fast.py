@@ -754,6 +754,41 @@ def test_a_site_the_byte_scan_misses_is_validated_with_its_marks(
     assert _same_findings(pairs["1.9.0"], data.encode(), "prefixed")
 
 
+def test_the_xmlschema_model_is_unpickled_from_the_cache_and_gives_the_same_findings(
+    cache: Path, monkeypatch: pytest.MonkeyPatch, pairs: dict[str, Pair]
+) -> None:
+    first = xsd11_validator(_entry("1.9.0"), Libxml2Validator)
+    assert isinstance(first, FastXsd11Validator)
+    first.full  # noqa: B018 - built once, and kept in the form's folder
+    assert list((cache / "xsd10" / first.form.key).glob("*.pickle"))
+
+    def no_build(*args: Any, **kwargs: Any) -> Any:
+        raise AssertionError("built again")
+
+    import xmlschema
+
+    monkeypatch.setattr(xmlschema, "XMLSchema11", no_build)
+    second = xsd11_validator(_entry("1.9.0"), Libxml2Validator)
+    assert isinstance(second, FastXsd11Validator)
+    pair = Pair(pairs["1.9.0"].full, second)
+    for path in sorted(CORPUS_RAIL.glob("*.xodr")):
+        _same_findings(pair, _as_version(path.read_bytes(), "1.9"), path.name)
+    for owner, test in sorted(_schema_tests("1.9.0", "assert"))[:5]:
+        parts, _ = _assert_case(owner, test)
+        _same_findings(pair, _document("1.9.0", parts), f"{owner}: {test}")
+
+
+def test_a_broken_pickle_is_built_again(cache: Path) -> None:
+    first = xsd11_validator(_entry("1.8.1"), Libxml2Validator)
+    assert isinstance(first, FastXsd11Validator)
+    first.full  # noqa: B018
+    [pickled] = (cache / "xsd10" / first.form.key).glob("*.pickle")
+    pickled.write_bytes(b"not a pickle")
+    second = xsd11_validator(_entry("1.8.1"), Libxml2Validator)
+    assert isinstance(second, FastXsd11Validator) and second.full.schema is not None
+    assert pickled.read_bytes() != b"not a pickle"  # written again
+
+
 @pytest.mark.parametrize("child", ["forked", "dies"])
 def test_the_fast_path_in_a_forked_child_marks_types_there_or_in_the_fallback(
     pairs: dict[str, Pair], monkeypatch: pytest.MonkeyPatch, child: str

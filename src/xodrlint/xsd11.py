@@ -54,6 +54,14 @@ class Xsd11Validator:
         except (xmlschema.XMLSchemaException, OSError) as error:
             raise SchemaLoadError(f"cannot compile schema {entry}: {error}") from error
 
+    @classmethod
+    def of_schema(cls, schema: Any) -> Xsd11Validator:
+        """A validator for an ``xmlschema.XMLSchema11`` built before (the fast path keeps
+        one in its cache)."""
+        validator = cls.__new__(cls)
+        validator._schema = schema
+        return validator
+
     @property
     def schema(self) -> Any:
         """The compiled ``xmlschema.XMLSchema11`` (the fast path reads its components)."""
