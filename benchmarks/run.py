@@ -4,7 +4,8 @@
 
 Generates the networks (benchmarks/generate.py), then runs every command of a round in
 turn, ``--repeat`` rounds, so that a noisy machine slows both sides alike, and prints
-the median wall time and peak RSS of each command and the ratios of issue 5:
+the median wall time and peak RSS of each command and the ratios of issue 5, each the
+median of its per-round ratios (a round runs both commands back to back):
 
 - R1: xodrlint (all rules, JSON output) on a 20 MB OpenDRIVE 1.7 network / xmllint on it
 - R2: xodrlint on the same network declared 1.8 (XSD 1.1) / xmllint on the 1.7 file
@@ -125,13 +126,20 @@ def commands(files: dict[str, Path], schemas: Path) -> list[Command]:
 
 def report(runs: Sequence[Command]) -> dict[str, float]:
     by = {c.name: c for c in runs}
+
+    def ratio(top: str, bottom: str, kind: str = "seconds") -> float:
+        # per round, then the median: the two commands of a round ran back to back, so a
+        # machine that speeds up or slows down between rounds moves both alike
+        pairs = zip(getattr(by[top], kind), getattr(by[bottom], kind), strict=True)
+        return statistics.median(a / b for a, b in pairs)
+
     figures = {
-        "R1": by["xodrlint 1.7"].median / by["xmllint 1.7"].median,
-        "R2": by["xodrlint 1.8"].median / by["xmllint 1.7"].median,
-        "R3": by["xodrlint 0.2 MB"].median / by["python imports"].median,
-        "M": by["xodrlint 1.7"].median_kb / by["xmllint 1.7"].median_kb,
-        "S": by["xodrlint 1.7 x2"].median / by["xodrlint 1.7"].median,
-        "B": by["batch -j 1"].median / by["batch -j 2"].median,
+        "R1": ratio("xodrlint 1.7", "xmllint 1.7"),
+        "R2": ratio("xodrlint 1.8", "xmllint 1.7"),
+        "R3": ratio("xodrlint 0.2 MB", "python imports"),
+        "M": ratio("xodrlint 1.7", "xmllint 1.7", "peak_kb"),
+        "S": ratio("xodrlint 1.7 x2", "xodrlint 1.7"),
+        "B": ratio("batch -j 1", "batch -j 2"),
     }
     print(f"{'command':<18} {'median s':>9} {'peak MB':>8}   runs (s)")
     for c in runs:

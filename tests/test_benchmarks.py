@@ -51,3 +51,34 @@ def test_generation_is_deterministic(tmp_path: Path) -> None:
     GENERATE.write_network(one, 40_000)
     GENERATE.write_network(two, 40_000)
     assert one.read_bytes() == two.read_bytes()
+
+
+def _runner() -> ModuleType:
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    try:
+        spec = importlib.util.spec_from_file_location("bench_run", REPO / "benchmarks" / "run.py")
+        assert spec is not None and spec.loader is not None
+        module = importlib.util.module_from_spec(spec)
+        sys.modules["bench_run"] = module  # dataclasses look their module up there
+        spec.loader.exec_module(module)
+        return module
+    finally:
+        sys.path.remove(str(REPO / "benchmarks"))
+
+
+def test_each_ratio_is_the_median_of_its_rounds(capsys: pytest.CaptureFixture[str]) -> None:
+    # the machine doubles its speed after two rounds: per-round ratios stay 1.5, while the
+    # ratio of the medians would not
+    run = _runner()
+    names = [
+        "xmllint 1.7", "xodrlint 1.7", "xodrlint 1.8", "xodrlint 1.7 x2",
+        "python imports", "xodrlint 0.2 MB", "batch -j 1", "batch -j 2",
+    ]  # fmt: skip
+    commands = [run.Command(name, []) for name in names]
+    for command in commands:
+        base = 3.0 if command.name in ("xodrlint 1.8", "xodrlint 0.2 MB", "batch -j 1") else 2.0
+        command.seconds = [base, base, base / 2, base / 2, base / 2]
+        command.peak_kb = [100, 100, 100, 100, 100]
+    figures = run.report(commands)
+    assert figures["R2"] == figures["R3"] == figures["B"] == 1.5
+    assert "R2    1.50   target <= 2.0   met" in capsys.readouterr().out
