@@ -472,3 +472,52 @@ def test_rules_lists_all_38_rules() -> None:
     codes = [line.split()[0] for line in lines]
     assert len(codes) == 38
     assert sorted({code[:2] for code in codes}) == ["PT", "RL", "ST", "SW", "XS"]
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["check", "--help"],
+        ["check", "--bogus", "x.xodr"],
+        ["check"],
+        ["qc", "--help"],
+        ["rules", "-f", "bad"],
+        ["explain"],
+        ["schemas", "list", "--help"],
+        ["--version"],
+    ],
+)
+def test_a_command_run_alone_reads_as_in_the_whole_app(args: list[str]) -> None:
+    # the console script builds only the invoked command (a faster start): help, usage
+    # errors and exit codes must not tell the difference
+    alone = subprocess.run(
+        [str(CONSOLE_SCRIPT), *args], capture_output=True, text=True, check=False, env=_plain_env()
+    )
+    whole_app = "import sys; from xodrlint.cli import app; app(prog_name='xodrlint')"
+    whole = subprocess.run(
+        [sys.executable, "-c", whole_app, *args],
+        capture_output=True,
+        text=True,
+        check=False,
+        env=_plain_env(),
+    )
+    assert (alone.stdout, alone.stderr, alone.returncode) == (
+        whole.stdout,
+        whole.stderr,
+        whole.returncode,
+    )
+
+
+def _plain_env() -> dict[str, str]:
+    return {**{k: v for k, v in os.environ.items() if k not in PLAIN_ENV}, "COLUMNS": "80"}
+
+
+def test_only_the_invoked_command_is_built() -> None:
+    from xodrlint.cli import _invoked_alone
+
+    alone = _invoked_alone(["check", "maps/"])
+    assert alone is not None
+    assert [info.callback.__name__ for info in alone.registered_commands] == ["check"]  # type: ignore[union-attr]
+    assert _invoked_alone(["schemas", "list"]) is None  # a group keeps the whole app
+    assert _invoked_alone(["--version"]) is None
+    assert _invoked_alone([]) is None
