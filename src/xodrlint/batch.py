@@ -10,6 +10,7 @@ the other files go on.
 from __future__ import annotations
 
 import contextlib
+import gc
 import os
 import sys
 from collections.abc import Callable, Sequence
@@ -85,7 +86,13 @@ def lint_tasks(
     _WORKER["linter"] = linter
     reports: dict[int, FileReport] = {}
     everything = range(len(tasks))
-    pending = _run_pool(linter.options, tasks, everything, jobs, worker, reports, progress)
+    # The collector of a forked worker walks every object it inherited, and touching one
+    # copies its memory page: frozen, the parent's objects stay shared while the pool runs.
+    gc.freeze()
+    try:
+        pending = _run_pool(linter.options, tasks, everything, jobs, worker, reports, progress)
+    finally:
+        gc.unfreeze()
     for index in pending:  # each file of a chunk that broke a pool gets a worker alone
         alone = _run_pool(linter.options, tasks, [index], 1, worker, reports, False)
         if alone:
