@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import gc
 import json
 import os
+import pickle
 import shutil
 from pathlib import Path
 
@@ -110,3 +112,25 @@ def test_progress_bar_only_on_a_terminal_and_for_many_files(
     assert _Progress(MIN_FILES_FOR_PROGRESS, enabled=True)._bar is not None
     assert _Progress(MIN_FILES_FOR_PROGRESS - 1, enabled=True)._bar is None
     assert _Progress(MIN_FILES_FOR_PROGRESS, enabled=False)._bar is None
+
+
+def test_workers_start_with_the_parents_objects_frozen(monkeypatch: pytest.MonkeyPatch) -> None:
+    # a worker's collector would otherwise walk, and copy, every page it inherited
+    tasks = [Task(REPO / "examples" / "clean.xodr", f"clean-{n}") for n in range(6)]
+    linter = Linter(default_registry(), LintOptions())
+    reports = lint_tasks(linter, tasks, 2, worker=_counting_worker)
+    assert [r.path for r in reports] == [t.display for t in tasks]
+    assert all(int(r.error or 0) > 0 for r in reports)
+    assert gc.get_freeze_count() == 0  # the parent's collector is whole again
+
+
+def _counting_worker(task: Task) -> FileReport:
+    # runs in a forked worker: report how many objects it inherited frozen
+    return FileReport(task.display, error=str(gc.get_freeze_count()))
+
+
+def test_reports_and_options_cross_process_boundaries() -> None:
+    # workers send reports back and spawned workers get the options: all must pickle,
+    # defaults included
+    for value in (FileReport("a.xodr", error="gone"), LintOptions()):
+        assert pickle.loads(pickle.dumps(value)) == value

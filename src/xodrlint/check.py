@@ -9,7 +9,6 @@ import sys
 from collections import Counter
 from collections.abc import Callable, Mapping
 from pathlib import Path
-from types import MappingProxyType
 from typing import Final, NamedTuple, TextIO
 
 from xodrlint import __version__
@@ -43,7 +42,7 @@ from xodrlint.engine import (
     resolve_rule_options,
     select_rules,
 )
-from xodrlint.findings import FileReport, RunResult
+from xodrlint.findings import NO_ENTRIES, FileReport, RunResult
 from xodrlint.formatters import Formatter, available, get_formatter
 from xodrlint.output import STDOUT, error_line, write_output
 from xodrlint.registry import Registry
@@ -72,7 +71,7 @@ class CheckRequest(NamedTuple):
     quiet: bool = False
     show_source: bool = False
     stdin_filename: str | None = None
-    rule_options: Mapping[str, float] = MappingProxyType({})
+    rule_options: Mapping[str, float] = NO_ENTRIES
     config: Path | None = None
     isolated: bool = False
     exclude: tuple[str, ...] | None = None

@@ -13,7 +13,6 @@ import math
 import re
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
-from types import MappingProxyType
 from typing import Final, NamedTuple
 
 from lxml import etree
@@ -21,6 +20,7 @@ from lxml import etree
 from xodrlint.document import Document, load_bytes
 from xodrlint.files import NotRegularFile, read_regular_file
 from xodrlint.findings import (
+    NO_ENTRIES,
     FileReport,
     Finding,
     Hit,
@@ -65,12 +65,12 @@ class OptionError(ValueError):
 class LintOptions(NamedTuple):
     select: tuple[str, ...] = ("ALL",)
     ignore: tuple[str, ...] = ()
-    severity: Mapping[str, Severity] = MappingProxyType({})
+    severity: Mapping[str, Severity] = NO_ENTRIES
     schema: Path | None = None
     schema_origin: Origin = Origin.OPTION
     keep_source: bool = False
     """Attach the text of each finding's line to the report (for ``--show-source``)."""
-    rule_options: Mapping[str, float] = MappingProxyType({})
+    rule_options: Mapping[str, float] = NO_ENTRIES
     """Rule option values by option name (``rail-min-width``); the rest keep defaults."""
     keep_suppressed: bool = False
     """Keep withheld findings in the report (SARIF lists them as suppressed)."""

@@ -6,11 +6,16 @@ import os
 from collections.abc import Iterable, Mapping
 from enum import StrEnum
 from pathlib import Path
-from types import MappingProxyType
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING, Any, Final, NamedTuple
 
 if TYPE_CHECKING:
     from lxml import etree
+
+
+#: The default of mapping fields of the value types: a plain dict, because reports and
+#: options cross process boundaries and a ``MappingProxyType`` cannot be pickled. Typed
+#: read-only; nothing may write to it.
+NO_ENTRIES: Final[Mapping[Any, Any]] = {}
 
 
 class Severity(StrEnum):
@@ -201,7 +206,7 @@ class FileReport(NamedTuple):
     schema_builtin: bool = False
     error: str | None = None
     internal_errors: tuple[str, ...] = ()
-    source_lines: Mapping[int, str] = MappingProxyType({})
+    source_lines: Mapping[int, str] = NO_ENTRIES
     """The text of each line a finding is on, when the run asked to show source."""
     suppressed: tuple[Suppressed, ...] = ()
     """Findings withheld by suppressions, kept only when the run asked for them."""

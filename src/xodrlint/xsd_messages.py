@@ -9,10 +9,11 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Mapping
-from types import MappingProxyType
 from typing import Final, NamedTuple
 
 from lxml import etree
+
+from xodrlint.findings import NO_ENTRIES
 
 XS: Final = "http://www.w3.org/2001/XMLSchema"
 _ENUM_SHOWN: Final = 12
@@ -39,7 +40,7 @@ class TypeCatalog(NamedTuple):
     """The named simple types of a schema set, for saying what a type allows."""
 
     types: Mapping[str, etree._Element]
-    identities: Mapping[str, etree._Element] = MappingProxyType({})
+    identities: Mapping[str, etree._Element] = NO_ENTRIES
 
     @classmethod
     def from_documents(cls, documents: Iterable[etree._Element]) -> TypeCatalog:
