@@ -257,12 +257,7 @@ def check(
             quiet=quiet,
             show_source=show_source,
             stdin_filename=stdin_filename,
-            rule_options={
-                **_named_options(rule_option or []),
-                **_rule_options(
-                    {"rail-min-width": rail_min_width, "refline-tolerance": refline_tolerance}
-                ),
-            },
+            rule_options=_rule_options(rule_option, rail_min_width, refline_tolerance),
             config=config,
             isolated=isolated,
             exclude=_split(exclude) or None,
@@ -278,8 +273,14 @@ def check(
     raise typer.Exit(code)
 
 
-def _rule_options(given: dict[str, float | None]) -> dict[str, float]:
-    return {name: value for name, value in given.items() if value is not None}
+def _rule_options(
+    named: list[str] | None, rail_min_width: float | None, refline_tolerance: float | None
+) -> dict[str, float]:
+    """The rule options a command line gave: ``--rule-option NAME=NUMBER`` entries, and
+    the built-in rules' own flags, which win."""
+    flags = {"rail-min-width": rail_min_width, "refline-tolerance": refline_tolerance}
+    given = {name: value for name, value in flags.items() if value is not None}
+    return {**_named_options(named or []), **given}
 
 
 def _named_options(entries: list[str]) -> dict[str, float]:
@@ -352,12 +353,7 @@ def map_command(
         schema=schema,
         config=config,
         isolated=isolated,
-        rule_options={
-            **_named_options(rule_option or []),
-            **_rule_options(
-                {"rail-min-width": rail_min_width, "refline-tolerance": refline_tolerance}
-            ),
-        },
+        rule_options=_rule_options(rule_option, rail_min_width, refline_tolerance),
     )
     raise typer.Exit(run_map(MapRequest(lint, output)))
 
