@@ -20,8 +20,9 @@ from xodrlint.document import Document, load_bytes
 from xodrlint.findings import Hit
 from xodrlint.schema import Libxml2Validator, SchemaValidators
 from xodrlint.schemas import SchemaFinder, SchemaLoadError, SchemaSet
+from xodrlint.xsd10_form import CACHE_DIR_ENV, derive_xsd10, xsd10_form
 from xodrlint.xsd11 import Xsd11Validator
-from xodrlint.xsd11_fast import FastXsd11Validator, derive_xsd10, xsd10_form, xsd11_validator
+from xodrlint.xsd11_fast import FastXsd11Validator, xsd11_validator
 from xodrlint.xsd_messages import XS
 
 from .conftest import CORPUS_RAIL, REPO, SHARED, SHARED_SCHEMAS, needs_shared
@@ -38,7 +39,7 @@ pytestmark = needs_shared
 def cache(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     """Every test derives into its own cache folder, never the user's."""
     folder = tmp_path / "cache"
-    monkeypatch.setenv(xsd11_fast.CACHE_DIR_ENV, str(folder))
+    monkeypatch.setenv(CACHE_DIR_ENV, str(folder))
     monkeypatch.delenv(xsd11_fast.MODE_ENV, raising=False)
     return folder
 
@@ -53,7 +54,7 @@ class Pair:
 def pairs(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, Pair]]:
     """Both validators for every XSD 1.1 set, built once for the module."""
     with pytest.MonkeyPatch.context() as patch:
-        patch.setenv(xsd11_fast.CACHE_DIR_ENV, str(tmp_path_factory.mktemp("cache")))
+        patch.setenv(CACHE_DIR_ENV, str(tmp_path_factory.mktemp("cache")))
         patch.delenv(xsd11_fast.MODE_ENV, raising=False)
         built = {}
         for version in XSD11_SETS:
@@ -586,7 +587,7 @@ def test_the_second_compile_reuses_the_cached_form(
     def never(*args: Any) -> None:
         raise AssertionError("derived again")
 
-    monkeypatch.setattr(xsd11_fast, "derive_xsd10", never)
+    monkeypatch.setattr("xodrlint.xsd10_form.derive_xsd10", never)
     second = xsd11_validator(_entry("1.8.0"), Libxml2Validator)
     assert isinstance(second, FastXsd11Validator) and second.form.key == first.form.key
     assert {p: p.stat().st_mtime_ns for p in folders[0].iterdir()} == written
@@ -614,7 +615,7 @@ def test_an_unwritable_cache_still_validates(
 ) -> None:
     blocker = tmp_path / "a-file"
     blocker.write_text("not a folder")
-    monkeypatch.setenv(xsd11_fast.CACHE_DIR_ENV, str(blocker / "cache"))
+    monkeypatch.setenv(CACHE_DIR_ENV, str(blocker / "cache"))
     validator = xsd11_validator(_entry("1.9.0"), Libxml2Validator)
     assert isinstance(validator, FastXsd11Validator) and not validator.form.cached
     assert validator.form.entry is not None and not validator.form.entry.exists()

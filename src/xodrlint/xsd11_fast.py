@@ -4,7 +4,7 @@ schema, and the XSD 1.1-only constraints checked on just the elements they gover
 The findings equal those of full XSD 1.1 validation (:class:`~xodrlint.xsd11.Xsd11Validator`)
 in element, line, XPath and kind; a test proves it on the corpus and on mutated files.
 
-1. **The XSD 1.0 form** (:func:`derive_xsd10`) is a copy of every document of the set with
+1. **The XSD 1.0 form** (:mod:`xodrlint.xsd10_form`) is a copy of every document of the set with
    ``xs:assert``/``xs:assertion`` and ``xs:alternative`` removed and the ``vc:`` versioning
    attributes resolved as an XSD 1.1 processor would. An element with alternatives keeps
    its declared type; the alternative an instance element selects is handed to libxml2 as
@@ -48,56 +48,33 @@ follows the instance, as XSD 1.1 says; the fast path reports those broken refere
 from __future__ import annotations
 
 import contextlib
-import hashlib
 import itertools
-import json
 import os
-import pickle
 import re
-import shutil
-import sys
-import tempfile
 from collections import Counter
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Final, Protocol
 
 from lxml import etree
 
-from xodrlint import plugins
 from xodrlint.document import Document
 from xodrlint.findings import Hit
 from xodrlint.schemas import SchemaLoadError
-from xodrlint.xsd_messages import CHILD_KINDS, XS
+from xodrlint.xsd10_form import Xsd10Form, full_validator, xsd10_form
+from xodrlint.xsd_messages import CHILD_KINDS
 
-#: Where derived schema forms are cached (default: the user cache folder).
-CACHE_DIR_ENV: Final = plugins.CACHE_ENV
 #: ``full`` validates XSD 1.1 sets with xmlschema alone (slow; the reference behaviour).
 MODE_ENV: Final = "XODRLINT_XSD11"
-#: Part of the cache key: bump it whenever :func:`derive_xsd10` changes its output.
-DERIVATION_VERSION: Final = "xsd10-form/1"
-MANIFEST: Final = "xodrlint-xsd10.json"
 
-VC: Final = "http://www.w3.org/2007/XMLSchema-versioning"
 XSI: Final = "http://www.w3.org/2001/XMLSchema-instance"
 XSI_TYPE: Final = f"{{{XSI}}}type"
-#: The XSD version the derived form stands in for (vc:minVersion/maxVersion are read so).
-_PROCESSOR_VERSION: Final = (1, 1)
 
 #: libxml2 kinds folded onto xmlschema's: what the XS006 rule and the engine tell apart.
 _UNEXPECTED: Final = CHILD_KINDS - {"missing_child"}
 _IDENTITY_KINDS: Final = frozenset({"keyref", "duplicate", "key_field"})
 
-# XSD 1.1 syntax the XSD 1.0 form cannot stand in for: the set is validated in full.
-_UNSUPPORTED_ELEMENTS: Final = {
-    "openContent": "open content",
-    "defaultOpenContent": "default open content",
-    "override": "xs:override",
-}
-_XSD11_TYPES: Final = frozenset(
-    {"anyAtomicType", "dateTimeStamp", "dayTimeDuration", "yearMonthDuration", "error"}
-)
 # XPath in an assertion that might see past its element, where xmlschema's tree (the whole
 # document) and ours (the element) could differ. elementpath stops the parent, ancestor
 # and sibling axes at the context root, which is the element in both.
@@ -139,391 +116,6 @@ class HitSource(Protocol):
 
 class _NeedsFull(Exception):
     """This document meets something the fast path cannot reproduce: validate in full."""
-
-
-# -- the XSD 1.0 form --------------------------------------------------------------------
-
-
-@dataclass(frozen=True, slots=True)
-class SchemaSource:
-    """The files of one schema set: each path with its bytes and parsed tree."""
-
-    entry: Path
-    files: tuple[tuple[Path, bytes, etree._ElementTree], ...]
-
-    @property
-    def base(self) -> Path:
-        """The deepest folder holding every file (relative layout is kept below it)."""
-        return Path(os.path.commonpath([str(path.parent) for path, _, _ in self.files]))
-
-    def relative(self, path: Path) -> str:
-        return path.relative_to(self.base).as_posix()
-
-    @property
-    def key(self) -> str:
-        """SHA-256 of the derivation version and of every file, by its relative path."""
-        digest = hashlib.sha256(DERIVATION_VERSION.encode())
-        for path, data, _ in sorted(self.files, key=lambda item: self.relative(item[0])):
-            digest.update(b"\0" + self.relative(path).encode() + b"\0")
-            digest.update(hashlib.sha256(data).digest())
-        return digest.hexdigest()
-
-
-def read_schema_source(entry: Path) -> SchemaSource:
-    """The entry XSD and every local file it includes, imports or redefines."""
-    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False)
-    files: list[tuple[Path, bytes, etree._ElementTree]] = []
-    pending, seen = [Path(os.path.realpath(entry))], set()
-    while pending:
-        path = pending.pop()
-        if path in seen:
-            continue
-        seen.add(path)
-        try:
-            data = path.read_bytes()
-            tree = etree.ElementTree(etree.fromstring(data, parser, base_url=str(path)))
-        except (OSError, etree.XMLSyntaxError) as error:
-            raise SchemaLoadError(f"cannot read schema {path}: {error}") from error
-        files.append((path, data, tree))
-        for reference in tree.getroot().iterchildren(
-            f"{{{XS}}}include", f"{{{XS}}}import", f"{{{XS}}}redefine", f"{{{XS}}}override"
-        ):
-            location = reference.get("schemaLocation")
-            if location and "://" not in location:
-                pending.append(Path(os.path.realpath(path.parent / location)))
-    return SchemaSource(Path(os.path.realpath(entry)), tuple(files))
-
-
-@dataclass
-class Derivation:
-    """What :func:`derive_xsd10` did to a set, and what it could not do."""
-
-    asserts: int = 0
-    alternatives: int = 0
-    unsupported: list[str] = field(default_factory=list)
-    schema_checked: bool = False
-    """xmlschema built the source set in strict mode (its documents checked against the
-    XSD meta-schema, every XPath compiled) without an error."""
-    alternative_sites: list[list[str]] | None = None
-    """Where an element with type alternatives can stand, as [parent tag, tag] pairs
-    (parent "" for the root), read off that strict build; ``None`` when unknown."""
-
-    def note(self, problem: str) -> None:
-        if problem not in self.unsupported:
-            self.unsupported.append(problem)
-
-
-def derive_xsd10(documents: Iterable[etree._Element]) -> Derivation:
-    """Rewrite each schema document (in place) to its XSD 1.0 form; report what it did."""
-    found = Derivation()
-    roots = list(documents)
-    for root in roots:
-        _apply_conditional_inclusion(root, found)
-        for tag in ("assert", "assertion"):
-            for element in list(root.iter(f"{{{XS}}}{tag}")):
-                if tag == "assertion":
-                    # a facet of a simple type: the 1.1 checks only cover complex types
-                    found.note("xs:assertion on a simple type")
-                found.asserts += 1
-                _remove(element)
-        for alternative in list(root.iter(f"{{{XS}}}alternative")):
-            declaration = alternative.getparent()
-            if alternative.get("type") is None:
-                found.note("a type alternative with an anonymous type")
-            elif alternative.get("type", "").rpartition(":")[2] == "error":
-                found.note("a type alternative to xs:error")
-            if declaration is not None and declaration.get("block"):
-                found.note("a type alternative on an element that blocks substitution")
-            found.alternatives += 1
-            _remove(alternative)
-        _note_unsupported(root, found)
-    blocking = any(
-        element.get("block") or element.get("final")
-        for root in roots
-        for element in root.iter(f"{{{XS}}}complexType")
-    )
-    if found.alternatives and (blocking or any(r.get("blockDefault") for r in roots)):
-        found.note("type alternatives with blocked substitution")
-    return found
-
-
-def _apply_conditional_inclusion(root: etree._Element, found: Derivation) -> None:
-    """Keep what an XSD 1.1 processor keeps (vc:minVersion <= 1.1 < vc:maxVersion)."""
-    for element in list(root.iter(etree.Element)):
-        low = element.get(f"{{{VC}}}minVersion")
-        high = element.get(f"{{{VC}}}maxVersion")
-        if (low and _version(low) > _PROCESSOR_VERSION) or (
-            high and _version(high) <= _PROCESSOR_VERSION
-        ):
-            if element is not root:
-                _remove(element)
-            continue
-        for name in [str(n) for n in element.attrib]:
-            if name.startswith(f"{{{VC}}}"):
-                local = etree.QName(name).localname
-                if local not in ("minVersion", "maxVersion"):
-                    found.note(f"vc:{local}")
-                del element.attrib[name]
-
-
-def _version(text: str) -> tuple[int, ...]:
-    try:
-        return tuple(int(part) for part in text.strip().split("."))
-    except ValueError:
-        return (0,)
-
-
-def _note_unsupported(root: etree._Element, found: Derivation) -> None:
-    if root.get("defaultAttributes") or root.get("xpathDefaultNamespace"):
-        found.note("schema-wide defaultAttributes or xpathDefaultNamespace")
-    for element in root.iter(f"{{{XS}}}*"):
-        local = etree.QName(element).localname
-        if local in _UNSUPPORTED_ELEMENTS:
-            found.note(_UNSUPPORTED_ELEMENTS[local])
-        elif local == "explicitTimezone":
-            found.note("the explicitTimezone facet")
-        if element.get("inheritable") is not None:
-            found.note("inheritable attributes")
-        if element.get("notQName") is not None or element.get("notNamespace") is not None:
-            found.note("wildcards with notQName or notNamespace")
-        if element.get("xpathDefaultNamespace") is not None:
-            found.note("xpathDefaultNamespace")
-        if local in ("element", "attribute") and element.get("targetNamespace") is not None:
-            found.note("targetNamespace on a local declaration")
-        if local in ("key", "keyref", "unique") and element.get("ref") is not None:
-            found.note("identity constraints by reference")
-        if local == "all" and _all_needs_xsd11(element):
-            found.note("xs:all beyond XSD 1.0")
-        for attribute in ("type", "base", "itemType", "memberTypes"):
-            for name in (element.get(attribute) or "").split():
-                prefix, _, type_name = name.rpartition(":")
-                if type_name in _XSD11_TYPES and element.nsmap.get(prefix or None) == XS:
-                    found.note(f"the XSD 1.1 type xs:{type_name}")
-
-
-def _all_needs_xsd11(group: etree._Element) -> bool:
-    if group.get("maxOccurs", "1") != "1":
-        return True
-    for particle in group.iterchildren(etree.Element):
-        local = etree.QName(particle).localname
-        if local in ("any", "group", "all", "choice", "sequence"):
-            return True
-        if local == "element" and particle.get("maxOccurs", "1") not in ("0", "1"):
-            return True
-    return False
-
-
-def _remove(element: etree._Element) -> None:
-    parent = element.getparent()
-    if parent is None:
-        return
-    # text after the element (never more than whitespace in a schema) stays in place
-    previous = element.getprevious()
-    if element.tail and element.tail.strip():
-        if previous is not None:
-            previous.tail = (previous.tail or "") + element.tail
-        else:
-            parent.text = (parent.text or "") + element.tail
-    parent.remove(element)
-
-
-def cache_dir() -> Path:
-    """The folder holding derived schema forms, in the user cache folder (which
-    ``XODRLINT_CACHE_DIR`` overrides)."""
-    return plugins.cache_dir() / "xsd10"
-
-
-@dataclass(frozen=True, slots=True)
-class Xsd10Form:
-    """The XSD 1.0 form of one set: its entry file (``None`` if the set needs XSD 1.1)."""
-
-    entry: Path | None
-    key: str
-    asserts: int
-    alternatives: int
-    unsupported: tuple[str, ...]
-    cached: bool
-    schema_checked: bool = False
-    """The source set passed xmlschema's strict build when the form was derived: later
-    builds of the same files (same key) may skip that check, which is 80% of their cost."""
-    alternative_sites: frozenset[tuple[str, str]] | None = None
-    """(parent tag, tag) of every element that may have type alternatives ("" for the
-    root's parent); ``None`` when the strict build did not run."""
-
-
-@contextlib.contextmanager
-def xsd10_form(entry: Path) -> Iterator[Xsd10Form]:
-    """The derived form of the set ``entry`` belongs to, from the cache or made now.
-
-    The form is written to a temporary folder and renamed into place, so a reader never
-    sees half a form; when the cache cannot be written the form lives in a temporary
-    folder for as long as this context lasts (long enough to compile it).
-    """
-    source = read_schema_source(entry)
-    key = source.key
-    folder = cache_dir() / key
-    form = _read_form(folder, source, key)
-    if form is not None:
-        yield form
-        return
-    derivation = derive_xsd10(tree.getroot() for _, _, tree in source.files)
-    written = None
-    with contextlib.suppress(OSError):
-        cache_dir().mkdir(parents=True, exist_ok=True)  # no cache, no point in checking
-        _check_strictly(entry, derivation)
-        _write_form(folder, source, derivation)
-        written = _read_form(folder, source, key)
-    if written is not None:
-        yield written
-        return
-    # the cache cannot be written (read-only home, a file in the way): derive for now
-    with tempfile.TemporaryDirectory(prefix="xodrlint-xsd10-") as scratch:
-        _write_files(Path(scratch), source, derivation)
-        form = _read_form(Path(scratch), source, key, cached=False)
-        assert form is not None
-        yield form
-
-
-def _read_form(
-    folder: Path, source: SchemaSource, key: str, *, cached: bool = True
-) -> Xsd10Form | None:
-    try:
-        manifest = json.loads((folder / MANIFEST).read_text("utf-8"))
-    except (OSError, ValueError):
-        return None
-    entry = folder / source.relative(source.entry)
-    unsupported = tuple(str(item) for item in manifest.get("unsupported", ()))
-    if not unsupported and not entry.is_file():
-        return None
-    return Xsd10Form(
-        entry=None if unsupported else entry,
-        key=key,
-        asserts=int(manifest.get("asserts", 0)),
-        alternatives=int(manifest.get("alternatives", 0)),
-        unsupported=unsupported,
-        cached=cached,
-        schema_checked=manifest.get("schema_checked") is True,
-        alternative_sites=_sites_of(manifest.get("alternative_sites")),
-    )
-
-
-def _full_validator(entry: Path, form: Xsd10Form) -> Any:
-    """xmlschema's XSD 1.1 validator of the set, unpickled from the form's folder when an
-    earlier run left it there (0.13 s instead of a 0.44 s build on the 1.8 sets). Only a
-    set that passed the strict build is kept, so the pickle always holds a checked one;
-    it is keyed by the versions of xmlschema, elementpath and Python that wrote it."""
-    from xodrlint.xsd11 import Xsd11Validator
-
-    if not (form.cached and form.schema_checked):
-        return Xsd11Validator(entry, schema_checked=form.schema_checked)
-    path = cache_dir() / form.key / _pickle_name()
-    # a damaged file, or one another release wrote, can raise almost anything: build again
-    with contextlib.suppress(Exception):
-        return Xsd11Validator.of_schema(pickle.loads(path.read_bytes()))
-    validator = Xsd11Validator(entry, schema_checked=True)
-    with contextlib.suppress(OSError, pickle.PicklingError, RecursionError, TypeError):
-        _write_atomically(path, pickle.dumps(validator.schema, pickle.HIGHEST_PROTOCOL))
-    return validator
-
-
-def _pickle_name() -> str:
-    import elementpath
-    import xmlschema
-
-    python = f"{sys.version_info.major}{sys.version_info.minor}"
-    return (
-        f"xmlschema-{xmlschema.__version__}-elementpath-{elementpath.__version__}-py{python}.pickle"
-    )
-
-
-def _write_atomically(path: Path, data: bytes) -> None:
-    handle, temporary = tempfile.mkstemp(prefix=".partial-", dir=path.parent)
-    try:
-        with os.fdopen(handle, "wb") as stream:
-            stream.write(data)
-        Path(temporary).replace(path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
-
-
-def _sites_of(value: object) -> frozenset[tuple[str, str]] | None:
-    if not isinstance(value, list):
-        return None
-    pairs = [item for item in value if isinstance(item, list) and len(item) == 2]
-    if len(pairs) != len(value) or not all(isinstance(n, str) for pair in pairs for n in pair):
-        return None
-    return frozenset((parent, tag) for parent, tag in pairs)
-
-
-def _check_strictly(entry: Path, derivation: Derivation) -> None:
-    """Build the source set strictly once, and note what later runs may rely on."""
-    from xodrlint.xsd11 import Xsd11Validator
-
-    try:
-        schema = Xsd11Validator(entry).schema
-    except SchemaLoadError:
-        return
-    derivation.schema_checked = True
-    derivation.alternative_sites = sorted([*site] for site in _alternative_sites(schema))
-
-
-def _alternative_sites(schema: Any) -> set[tuple[str, str]]:
-    """(parent tag, tag) of every declaration with type alternatives, found by walking the
-    content models down from the global elements (through every alternative type too)."""
-    sites: set[tuple[str, str]] = set()
-    seen: set[int] = set()
-    pending: list[tuple[str, Any]] = [("", d) for d in schema.elements.values()]
-    while pending:
-        parent, declaration = pending.pop()
-        if declaration.alternatives:
-            sites.add((parent, declaration.local_name))
-        if id(declaration) in seen:
-            continue
-        seen.add(id(declaration))
-        types = (declaration.type, *(a.type for a in declaration.alternatives))
-        for xsd_type in types:
-            content = getattr(xsd_type, "content", None)
-            if content is None or not hasattr(content, "iter_elements"):
-                continue
-            for child in content.iter_elements():
-                if getattr(child, "local_name", None) and hasattr(child, "alternatives"):
-                    pending.append((declaration.local_name, child))
-    return sites
-
-
-def _write_form(folder: Path, source: SchemaSource, derivation: Derivation) -> None:
-    folder.parent.mkdir(parents=True, exist_ok=True)
-    scratch = Path(tempfile.mkdtemp(prefix=".partial-", dir=folder.parent))
-    try:
-        _write_files(scratch, source, derivation)
-        try:
-            scratch.rename(folder)
-        except OSError:
-            if not (folder / MANIFEST).is_file():
-                raise
-            # another process wrote the same form first: theirs is as good as ours
-    finally:
-        if scratch.exists():
-            shutil.rmtree(scratch, ignore_errors=True)
-
-
-def _write_files(folder: Path, source: SchemaSource, derivation: Derivation) -> None:
-    for path, _, tree in source.files:
-        target = folder / source.relative(path)
-        target.parent.mkdir(parents=True, exist_ok=True)
-        target.write_bytes(etree.tostring(tree, xml_declaration=True, encoding="utf-8"))
-    manifest = {
-        "derivation": DERIVATION_VERSION,
-        "derived_from": str(source.entry),
-        "entry": source.relative(source.entry),
-        "asserts": derivation.asserts,
-        "alternatives": derivation.alternatives,
-        "unsupported": derivation.unsupported,
-        "schema_checked": derivation.schema_checked,
-        "alternative_sites": derivation.alternative_sites,
-    }
-    (folder / MANIFEST).write_text(json.dumps(manifest, indent=1), "utf-8")
 
 
 # -- choosing a validator ------------------------------------------------------------------
@@ -720,7 +312,7 @@ class FastXsd11Validator:
     def full(self) -> Any:
         """The full XSD 1.1 validator (its model serves the 1.1-only checks)."""
         if self._full is None:
-            self._full = _full_validator(self.entry, self.form)
+            self._full = full_validator(self.entry, self.form)
         return self._full
 
     def model(self) -> _Model:
