@@ -1,4 +1,5 @@
-"""Reading an input file without blocking: what is no regular file is refused, not read."""
+"""Files xodrlint reads and keeps: an input is read without blocking (what is no regular
+file is refused, not read); a cache file is written whole or not at all."""
 
 from __future__ import annotations
 
@@ -37,3 +38,18 @@ def read_regular_file(path: Path) -> bytes:
         if kind is not None:
             raise NotRegularFile(f"is {kind}, not a regular file")
         return stream.read()
+
+
+def write_atomically(path: Path, data: bytes) -> None:
+    """Write ``data`` to ``path`` whole: a temporary file beside it, then a rename, so a
+    reader (another run sharing the cache) never sees half a file."""
+    import tempfile  # only runs that write a cache pay for it
+
+    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    try:
+        with os.fdopen(handle, "wb") as stream:
+            stream.write(data)
+        Path(temporary).replace(path)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise

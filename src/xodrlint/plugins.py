@@ -16,10 +16,11 @@ import importlib
 import json
 import os
 import sys
-import tempfile
 import zlib
 from pathlib import Path
 from typing import Final, NamedTuple
+
+from xodrlint.files import write_atomically
 
 GROUPS: Final = ("xodrlint.rules", "xodrlint.formatters")
 CACHE_ENV: Final = "XODRLINT_CACHE_DIR"
@@ -91,10 +92,4 @@ def _store(path: Path, document: dict[str, object]) -> None:
     """Write the cache whole, or not at all (a read-only home is no error)."""
     with contextlib.suppress(OSError):
         path.parent.mkdir(parents=True, exist_ok=True)
-        handle, temporary = tempfile.mkstemp(prefix=".entry-points.", dir=path.parent)
-        try:
-            with os.fdopen(handle, "w", encoding="utf-8") as stream:
-                json.dump(document, stream)
-            Path(temporary).replace(path)
-        except OSError:
-            Path(temporary).unlink(missing_ok=True)
+        write_atomically(path, json.dumps(document).encode())

@@ -21,6 +21,7 @@ from typing import Final, NamedTuple, TextIO
 
 from lxml import etree
 
+from xodrlint.document import hardened_parser
 from xodrlint.formatters.xqar import BUNDLE_NAME, LevelRange, XqarFormatter, checker_id
 from xodrlint.output import STDOUT, error_line, write_output
 from xodrlint.registry import Registry
@@ -48,9 +49,8 @@ class QcRun(NamedTuple):
 
 def read_config(path: Path, registry: Registry) -> QcRun:
     """The run a framework configuration file asks of this bundle."""
-    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False)
     try:
-        root = etree.parse(str(path), parser).getroot()
+        root = etree.parse(str(path), hardened_parser()).getroot()
     except (OSError, etree.XMLSyntaxError) as error:
         raise QcError(f"{path}: cannot read the configuration: {error}") from None
     if root.tag != "Config":

@@ -28,6 +28,7 @@ from typing import Any, Final
 from lxml import etree
 
 from xodrlint import plugins
+from xodrlint.files import write_atomically
 from xodrlint.schemas import SchemaLoadError
 from xodrlint.xsd_messages import XS
 
@@ -330,7 +331,7 @@ def full_validator(entry: Path, form: Xsd10Form) -> Any:
         return Xsd11Validator.of_schema(pickle.loads(path.read_bytes()))
     validator = Xsd11Validator(entry, schema_checked=True)
     with contextlib.suppress(OSError, pickle.PicklingError, RecursionError, TypeError):
-        _write_atomically(path, pickle.dumps(validator.schema, pickle.HIGHEST_PROTOCOL))
+        write_atomically(path, pickle.dumps(validator.schema, pickle.HIGHEST_PROTOCOL))
     return validator
 
 
@@ -342,17 +343,6 @@ def _pickle_name() -> str:
     return (
         f"xmlschema-{xmlschema.__version__}-elementpath-{elementpath.__version__}-py{python}.pickle"
     )
-
-
-def _write_atomically(path: Path, data: bytes) -> None:
-    handle, temporary = tempfile.mkstemp(prefix=".partial-", dir=path.parent)
-    try:
-        with os.fdopen(handle, "wb") as stream:
-            stream.write(data)
-        Path(temporary).replace(path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
 
 
 def _sites_of(value: object) -> frozenset[tuple[str, str]] | None:
