@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import hashlib
+import inspect
 import json
 import os
 import re
@@ -521,3 +522,16 @@ def test_only_the_invoked_command_is_built() -> None:
     assert _invoked_alone(["schemas", "list"]) is None  # a group keeps the whole app
     assert _invoked_alone(["--version"]) is None
     assert _invoked_alone([]) is None
+
+
+def test_command_annotations_are_evaluated_once_at_import() -> None:
+    # typer reads them on every run; a string annotation would cost an eval each
+    from xodrlint.cli import schemas_app
+
+    commands = [*app.registered_commands, *schemas_app.registered_commands]
+    assert commands
+    for info in commands:
+        assert info.callback is not None
+        annotations = inspect.get_annotations(info.callback)
+        strings = [name for name, value in annotations.items() if isinstance(value, str)]
+        assert not strings, f"{info.callback.__name__}: {strings}"
