@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import re
 import subprocess
 import sys
@@ -129,6 +130,19 @@ def test_usage_errors_exit_2_with_one_line(tmp_path: Path, args: list[str], mess
     result = cli("map", *[arg.replace("{tmp}", str(tmp_path)) for arg in args], code=2)
     assert result.stderr.count("\n") == 1 and message in result.stderr, result.stderr
     assert not list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("link", ["symlink", "hardlink"])
+def test_the_input_under_another_name_is_not_overwritten(tmp_path: Path, link: str) -> None:
+    source, out = tmp_path / "map.xodr", tmp_path / "map.html"
+    source.write_bytes(BROKEN.read_bytes())
+    if link == "symlink":
+        out.symlink_to(source)
+    else:
+        os.link(source, out)
+    result = cli("map", source, "-o", out, code=2)
+    assert result.stderr == f"xodrlint: --output {out}: is the input; refusing to overwrite it\n"
+    assert source.read_bytes() == BROKEN.read_bytes()
 
 
 def test_lint_options_are_check_s_options(tmp_path: Path) -> None:

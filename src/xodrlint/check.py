@@ -4,7 +4,6 @@ report. The CLI hands over a :class:`CheckRequest` and gets an exit code back.""
 from __future__ import annotations
 
 import json
-import os
 import sys
 from collections import Counter
 from collections.abc import Callable, Mapping
@@ -42,6 +41,7 @@ from xodrlint.engine import (
     resolve_rule_options,
     select_rules,
 )
+from xodrlint.files import overwrites
 from xodrlint.findings import NO_ENTRIES, FileReport, RunResult
 from xodrlint.formatters import Formatter, available, get_formatter
 from xodrlint.output import STDOUT, error_line, write_output
@@ -340,23 +340,12 @@ def _check_output_target(flag: str, output: str | None, inputs: list[Input]) -> 
     if output in (None, STDOUT):
         return
     target = Path(output)
-    if any(item.path is not None and _same_file(target, item.path) for item in inputs):
+    if overwrites(target, (item.path for item in inputs if item.path is not None)):
         raise UsageError(f"{flag} {output}: is one of the inputs; refusing to overwrite it")
     if target.is_dir():
         raise UsageError(f"{flag} {output}: is a folder")
     if not target.parent.is_dir():
         raise UsageError(f"{flag} {output}: its folder {target.parent} does not exist")
-
-
-def _same_file(output: Path, input_path: Path) -> bool:
-    """Whether writing ``output`` would replace ``input_path``: the same path once links
-    are resolved, or the same file under another name (a hard link)."""
-    if os.path.realpath(output) == os.path.realpath(input_path):
-        return True
-    try:
-        return output.samefile(input_path)
-    except OSError:  # the output does not exist yet, or the input is gone
-        return False
 
 
 def run_notes(reports: list[FileReport]) -> tuple[str, ...]:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import stat
+from collections.abc import Iterable
 from pathlib import Path
 
 
@@ -24,6 +25,27 @@ def special_kind(mode: int) -> str | None:
         if test(mode):
             return kind
     return None
+
+
+def overwrites(output: Path, inputs: Iterable[Path]) -> bool:
+    """Whether writing ``output`` would replace one of ``inputs``: the same file under
+    any name, through a symbolic link or a hard link.
+
+    Compared by device and inode, one ``stat`` each: resolving every input's path
+    instead cost 20 ms on a folder of 200 maps, in the serial start of a batch run.
+    """
+    try:
+        written = output.stat()
+    except OSError:  # not there yet (or out of reach): no input can be it
+        return False
+    for path in inputs:
+        try:
+            status = path.stat()
+        except OSError:  # the input is gone; its report says so
+            continue
+        if (status.st_dev, status.st_ino) == (written.st_dev, written.st_ino):
+            return True
+    return False
 
 
 def read_regular_file(path: Path) -> bytes:

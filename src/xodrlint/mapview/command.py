@@ -9,7 +9,6 @@ input errors (one line), 3 internal errors. A file that is not an OpenDRIVE docu
 from __future__ import annotations
 
 import itertools
-import os
 import sys
 import time
 from collections.abc import Sequence
@@ -24,6 +23,7 @@ from xodrlint.check import CheckRequest, UsageError, prepare_linter, run_notes
 from xodrlint.config import ConfigError
 from xodrlint.document import Document, load_bytes
 from xodrlint.engine import OptionError, SelectorError
+from xodrlint.files import overwrites
 from xodrlint.findings import FileReport, Finding, RunResult
 from xodrlint.formatters import get_formatter
 from xodrlint.mapview.locate import Locator
@@ -122,7 +122,7 @@ def _output_kind(output: str, source: Path) -> str:
         raise UsageError(f"--output {output}: is a folder")
     if not (target.parent if str(target.parent) else Path()).is_dir():
         raise UsageError(f"--output {output}: its folder {target.parent} does not exist")
-    if source.exists() and os.path.realpath(source) == os.path.realpath(target):
+    if overwrites(target, [source]):
         raise UsageError(f"--output {output}: is the input; refusing to overwrite it")
     return kind
 
