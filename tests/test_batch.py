@@ -13,7 +13,7 @@ import pytest
 from typer.testing import CliRunner, Result
 
 from xodrlint.api import default_registry
-from xodrlint.batch import Task, lint_in_worker, lint_tasks
+from xodrlint.batch import SHARE_PER_MESSAGE, Task, lint_in_worker, lint_tasks, schedule
 from xodrlint.cli import app
 from xodrlint.engine import Linter, LintOptions
 from xodrlint.findings import FileReport
@@ -134,3 +134,23 @@ def test_reports_and_options_cross_process_boundaries() -> None:
     # defaults included
     for value in (FileReport("a.xodr", error="gone"), LintOptions()):
         assert pickle.loads(pickle.dumps(value)) == value
+
+
+def test_workers_get_the_largest_files_first_in_shrinking_messages() -> None:
+    indexes = list(range(10, 210))
+    sizes = [1000 + (i * 37) % 500 for i in range(200)]
+    sizes[150] = 10**8  # a city map late in the input
+    chunks = schedule(indexes, sizes, 2)
+    assert sorted(i for chunk in chunks for i in chunk) == indexes  # each file once
+    assert chunks[0][0] == 160  # the city map is handed out first
+    handed_out = [sizes[i - 10] for chunk in chunks for i in chunk]
+    assert handed_out == sorted(handed_out, reverse=True)
+    lengths = [len(chunk) for chunk in chunks]
+    assert lengths == sorted(lengths, reverse=True)
+    assert lengths[0] == 200 // (2 * SHARE_PER_MESSAGE)
+    assert lengths[-4:] == [1, 1, 1, 1]  # the last files go out one by one
+
+
+def test_equal_sizes_keep_input_order_and_one_file_is_one_message() -> None:
+    assert schedule([4, 5, 6], [7, 7, 7], 4) == [[4], [5], [6]]
+    assert schedule([], [], 2) == []

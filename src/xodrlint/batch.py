@@ -40,8 +40,10 @@ class Task(NamedTuple):
 
 LintTask = Callable[[Task], FileReport]
 
-#: Tasks per message to a worker: few enough round trips, small enough to share out.
-CHUNKS_PER_WORKER: Final = 4
+#: Each message to a worker carries this share of what is left per worker: large
+#: messages while much is left (few round trips), single files at the end (no worker
+#: waits long for another to finish its last message).
+SHARE_PER_MESSAGE: Final = 4
 
 # The linter workers use. Forked workers inherit the parent's (with every schema it has
 # compiled so far); spawned ones build their own in the pool's initializer.
@@ -118,8 +120,7 @@ def _run_pool(
     from concurrent.futures import ProcessPoolExecutor, as_completed
     from concurrent.futures.process import BrokenProcessPool
 
-    size = max(1, len(indexes) // (jobs * CHUNKS_PER_WORKER))
-    chunks = [list(indexes[i : i + size]) for i in range(0, len(indexes), size)]
+    chunks = schedule(indexes, [_size(tasks[i].path) for i in indexes], jobs)
     methods = multiprocessing.get_all_start_methods()
     context = multiprocessing.get_context("fork" if "fork" in methods else None)
     with ProcessPoolExecutor(
@@ -135,6 +136,32 @@ def _run_pool(
                     reports.update(zip(chunk, future.result(), strict=True))
                 bar.advance(len(chunk))
     return [index for index in indexes if index not in reports]
+
+
+def schedule(indexes: Sequence[int], sizes: Sequence[int], jobs: int) -> list[list[int]]:
+    """``indexes`` in messages for ``jobs`` workers: the largest files first, in messages
+    that shrink as the work left does (guided self-scheduling).
+
+    Largest first, because the last file handed out bounds how long the other workers
+    wait: a folder of small maps with one city map at the end would otherwise leave one
+    worker linting the city alone.
+    """
+    order = sorted(range(len(indexes)), key=lambda k: (-sizes[k], k))
+    chunks = []
+    start = 0
+    while start < len(order):
+        left = len(order) - start
+        size = max(1, left // (jobs * SHARE_PER_MESSAGE))
+        chunks.append([indexes[k] for k in order[start : start + size]])
+        start += size
+    return chunks
+
+
+def _size(path: Path) -> int:
+    try:
+        return path.stat().st_size
+    except OSError:  # gone since it was found: its worker reports that
+        return 0
 
 
 class _Progress:
