@@ -1,0 +1,71 @@
+"""What a pre-commit run loads: a small clean map must not pay for what it does not use."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+from .test_cli import CLEAN
+
+#: Modules only some runs need: XSD 1.1 (OpenDRIVE 1.8 and later), terminal output,
+#: worker pools (-j on many files), forking large documents, plugin scans (cache misses),
+#: the other formats and commands.
+NOT_FOR_A_SMALL_JSON_RUN = (
+    "xmlschema",
+    "elementpath",
+    "rich",
+    "pickle",
+    "multiprocessing",
+    "concurrent.futures",
+    "importlib.metadata",
+    "xodrlint.xsd11",
+    "xodrlint.xsd11_fast",
+    "xodrlint.xsd10_form",
+    "xodrlint.formatters.sarif",
+    "xodrlint.formatters.xqar",
+    "xodrlint.mapview",
+    "xodrlint.geometry",
+    "xodrlint.qc",
+)
+
+_RUN = """
+import json, os, sys
+sys.argv = ["xodrlint", "check", "-f", "json", "-o", os.devnull, sys.argv[1]]
+from xodrlint.cli import main
+try:
+    main()
+except SystemExit as done:
+    code = done.code
+print(json.dumps({"code": code, "modules": sorted(sys.modules)}))
+"""
+
+
+def _modules_of_a_run(cache: Path) -> tuple[int, set[str]]:
+    env = {**os.environ, "XODRLINT_CACHE_DIR": str(cache), "XODRLINT_FAST_EXIT": "0"}
+    out = subprocess.run(
+        [sys.executable, "-c", _RUN, str(CLEAN)],
+        env=env,
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert out.returncode == 0, out.stderr
+    result = json.loads(out.stdout)
+    return result["code"], set(result["modules"])
+
+
+def test_a_small_clean_run_loads_only_what_it_uses(tmp_path: Path) -> None:
+    _modules_of_a_run(tmp_path)  # the first run fills the entry-point cache
+    code, modules = _modules_of_a_run(tmp_path)
+    assert code == 0
+    assert "lxml.etree" in modules and "xodrlint.engine" in modules  # the run did run
+    loaded = sorted(
+        name
+        for name in modules
+        for heavy in NOT_FOR_A_SMALL_JSON_RUN
+        if name == heavy or name.startswith(heavy + ".")
+    )
+    assert loaded == []
