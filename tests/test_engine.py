@@ -168,3 +168,21 @@ def test_a_linter_keeps_only_the_last_document_and_only_when_asked(
         linter.lint_path(REPO / "examples" / "clean.xodr")
     gc.collect()
     assert [ref() is not None for ref in loaded] == [False, keep]
+
+
+def test_warm_up_compiles_the_schema_the_header_asks_for_and_validates_nothing(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from xodrlint import schema
+
+    def no_validation(*_: object) -> Iterator[Hit]:
+        raise AssertionError("warm-up validated a document")
+
+    monkeypatch.setattr(schema.Libxml2Validator, "hits", no_validation)
+    monkeypatch.setattr(schema.BuiltinRailroadValidator, "hits", no_validation)
+    linter = Linter(load_registry([BUILTIN_POINT]), LintOptions())
+    linter.warm_up(REPO / "examples" / "clean.xodr")
+    compiled = linter._validators._compiled
+    assert len(compiled) == 1
+    (validator,) = compiled.values()
+    assert isinstance(validator, schema.Libxml2Validator | schema.BuiltinRailroadValidator)

@@ -176,7 +176,7 @@ class Linter:
             found["minor"],
         )
         with contextlib.suppress(SchemaLoadError):
-            self._validators.check(load_bytes(stub, "warm-up"))
+            self._validators.prepare(load_bytes(stub, "warm-up"))
 
     def lint_path(
         self, path: Path, display: str | None = None, external: ExternalIgnores = ()

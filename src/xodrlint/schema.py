@@ -76,6 +76,12 @@ class SchemaValidators:
         hits = background.start_hits(first, root, len(doc.data))
         return Pending(lambda: SchemaCheck(schema, tuple(finish(hits.result()))))
 
+    def prepare(self, doc: Document) -> None:
+        """Compile the schema ``doc`` asks for, without validating anything."""
+        schema = self.schema_for(doc)
+        if schema is not None:
+            self._validator(schema)
+
     def check(self, doc: Document) -> SchemaCheck | None:
         """Validate ``doc``; ``None`` when it has no readable version to pick a schema by."""
         schema = self.schema_for(doc)
