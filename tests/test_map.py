@@ -289,6 +289,16 @@ _ODD_NUMBERS = st.sampled_from(
 )
 
 
+def test_a_poly3_whose_slope_overflows_to_nan_still_gives_a_map() -> None:
+    # 2c and 3d overflow to +inf and -inf: their sum, the slope, is nan
+    geometry = (
+        '<geometry s="0" x="0" y="0" hdg="0" length="10">'
+        '<poly3 a="0" b="0" c="1.7e308" d="-1.7e308"/></geometry>'
+    )
+    html = _render(MINIMAL.format(roads=ONE_TRACK.format(geometry=geometry)))
+    assert "nan" not in (_svg(html).get("viewBox") or "").lower()
+
+
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(
     st.lists(

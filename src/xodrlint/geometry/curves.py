@@ -77,7 +77,10 @@ def integrate(
 
 
 def _panels(turn: float) -> int:
-    return max(1, math.ceil(min(abs(turn) / _PANEL_TURN, _MAX_PANELS)))
+    bend = abs(turn)
+    if not bend < _MAX_PANELS * _PANEL_TURN:  # also a turn that overflowed to inf or nan
+        return _MAX_PANELS
+    return max(1, math.ceil(bend / _PANEL_TURN))
 
 
 @dataclass(frozen=True, slots=True)
