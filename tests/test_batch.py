@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner, Result
 
+from xodrlint import batch
 from xodrlint.api import default_registry
 from xodrlint.batch import SHARE_PER_MESSAGE, Task, lint_in_worker, lint_tasks, schedule
 from xodrlint.cli import app
@@ -35,7 +36,14 @@ def _copy_cases(target: Path) -> Path:
     return target
 
 
-def test_output_is_identical_whatever_the_number_of_jobs(tmp_path: Path) -> None:
+@pytest.fixture(params=["forked", "executor"])
+def pool_kind(request: pytest.FixtureRequest, monkeypatch: pytest.MonkeyPatch) -> str:
+    """Both ways of running workers: forked by xodrlint, or the portable executor."""
+    monkeypatch.setattr(batch, "FORK_WORKERS", request.param == "forked")
+    return str(request.param)
+
+
+def test_output_is_identical_whatever_the_number_of_jobs(tmp_path: Path, pool_kind: str) -> None:
     maps = _copy_cases(tmp_path / "maps")
     one = run("check", "-f", "json", "-j", "1", maps)
     two = run("check", "-f", "json", "-j", "2", maps)
@@ -52,7 +60,9 @@ def crash_on_marked_files(task: Task) -> FileReport:
     return lint_in_worker(task)
 
 
-def test_a_file_that_kills_its_worker_is_an_error_and_the_rest_go_on(tmp_path: Path) -> None:
+def test_a_file_that_kills_its_worker_is_an_error_and_the_rest_go_on(
+    tmp_path: Path, pool_kind: str
+) -> None:
     paths = []
     for index in range(8):
         name = "crash.xodr" if index == 3 else f"map{index}.xodr"

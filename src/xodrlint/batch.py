@@ -9,7 +9,6 @@ the other files go on.
 
 from __future__ import annotations
 
-import contextlib
 import gc
 import os
 import sys
@@ -39,6 +38,10 @@ class Task(NamedTuple):
 
 
 LintTask = Callable[[Task], FileReport]
+
+#: Whether batch runs fork their workers where they can (tests turn it off to run the
+#: portable executor).
+FORK_WORKERS = True
 
 #: Each message to a worker carries this share of what is left per worker: large
 #: messages while much is left (few round trips), single files at the end (no worker
@@ -114,28 +117,55 @@ def _run_pool(
     reports: dict[int, FileReport],
     progress: bool,
 ) -> list[int]:
-    """Lint ``indexes`` in a pool; the indexes whose worker died are returned."""
-    # imported here: a single-file run (a pre-commit hook) never starts a pool
-    import multiprocessing
+    """Lint ``indexes`` in worker processes; the indexes whose worker died are returned."""
+    chunks = schedule(indexes, [_size(tasks[i].path) for i in indexes], jobs)
+    with _Progress(len(indexes), enabled=progress) as bar:
+
+        def deliver(number: int, done: list[FileReport]) -> None:
+            reports.update(zip(chunks[number], done, strict=True))
+            bar.advance(len(done))
+
+        def lint_chunk(number: int) -> list[FileReport]:
+            return _lint_chunk(worker, [tasks[i] for i in chunks[number]])
+
+        if hasattr(os, "fork") and FORK_WORKERS:
+            # imported here: a single-file run (a pre-commit hook) never starts workers
+            from xodrlint.forkpool import run_pieces
+
+            broken = run_pieces(len(chunks), lint_chunk, jobs, deliver)
+        else:
+            broken = _run_executor(options, chunks, tasks, jobs, worker, deliver)
+    return [index for number in broken for index in chunks[number]]
+
+
+def _run_executor(
+    options: LintOptions,
+    chunks: list[list[int]],
+    tasks: Sequence[Task],
+    jobs: int,
+    worker: LintTask,
+    deliver: Callable[[int, list[FileReport]], None],
+) -> list[int]:
+    """Where there is no ``fork`` (Windows): spawned workers, each building its linter."""
     from concurrent.futures import ProcessPoolExecutor, as_completed
     from concurrent.futures.process import BrokenProcessPool
 
-    chunks = schedule(indexes, [_size(tasks[i].path) for i in indexes], jobs)
-    methods = multiprocessing.get_all_start_methods()
-    context = multiprocessing.get_context("fork" if "fork" in methods else None)
     with ProcessPoolExecutor(
-        max_workers=jobs, mp_context=context, initializer=_start_worker, initargs=(options,)
+        max_workers=jobs, initializer=_start_worker, initargs=(options,)
     ) as pool:
-        futures: dict[Future[list[FileReport]], list[int]] = {
-            pool.submit(_lint_chunk, worker, [tasks[i] for i in chunk]): chunk for chunk in chunks
+        futures: dict[Future[list[FileReport]], int] = {
+            pool.submit(_lint_chunk, worker, [tasks[i] for i in chunk]): number
+            for number, chunk in enumerate(chunks)
         }
-        with _Progress(len(indexes), enabled=progress) as bar:
-            for future in as_completed(futures):
-                chunk = futures[future]
-                with contextlib.suppress(BrokenProcessPool):  # the caller retries those
-                    reports.update(zip(chunk, future.result(), strict=True))
-                bar.advance(len(chunk))
-    return [index for index in indexes if index not in reports]
+        broken = []
+        for future in as_completed(futures):
+            try:
+                done = future.result()
+            except BrokenProcessPool:  # the caller retries those files one by one
+                broken.append(futures[future])
+                continue
+            deliver(futures[future], done)
+    return broken
 
 
 def schedule(indexes: Sequence[int], sizes: Sequence[int], jobs: int) -> list[list[int]]:
@@ -165,10 +195,15 @@ def _size(path: Path) -> int:
 
 
 class _Progress:
-    """A rich progress bar on stderr, only when stderr is a terminal and the run is long."""
+    """A rich progress bar on stderr, only when stderr is a terminal and the run is long.
+
+    It is drawn from the first file done on: its refresh thread then starts after the
+    workers are forked (a thread's locks, copied by a fork, could be held forever).
+    """
 
     def __init__(self, total: int, *, enabled: bool) -> None:
         self._bar = None
+        self._started = False
         if enabled and total >= MIN_FILES_FOR_PROGRESS and sys.stderr.isatty():
             from rich.console import Console
             from rich.progress import Progress
@@ -177,14 +212,15 @@ class _Progress:
             self._task = self._bar.add_task("linting", total=total)
 
     def __enter__(self) -> _Progress:
-        if self._bar is not None:
-            self._bar.start()
         return self
 
     def __exit__(self, *_: object) -> None:
-        if self._bar is not None:
+        if self._bar is not None and self._started:
             self._bar.stop()
 
     def advance(self, count: int = 1) -> None:
         if self._bar is not None:
+            if not self._started:
+                self._bar.start()
+                self._started = True
             self._bar.advance(self._task, count)
