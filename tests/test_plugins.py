@@ -17,7 +17,7 @@ def test_cache_is_written_then_used(tmp_path: Path) -> None:
     first = plugins.installed("xodrlint.rules")
     assert {p.name for p in first} >= {"document", "switches", "partners", "stations", "lanes"}
     cached = json.loads((plugins.cache_path()).read_text("utf-8"))
-    assert cached["groups"]["xodrlint.rules"]
+    assert cached["entries"][0]["groups"]["xodrlint.rules"]
     # a process like the last one reads the cache and never imports importlib.metadata
     # (pytest's own sys.path differs from a plain interpreter's: run two of those)
     code = (
@@ -40,7 +40,7 @@ def test_a_changed_environment_is_scanned_again(
     plugins.installed("xodrlint.rules")
     path = plugins.cache_path()
     stale = json.loads(path.read_text("utf-8"))
-    stale["groups"]["xodrlint.rules"] = [["ghost", "nowhere:nothing"]]
+    stale["entries"][0]["groups"]["xodrlint.rules"] = [["ghost", "nowhere:nothing"]]
     path.write_text(json.dumps(stale), "utf-8")
     assert [p.name for p in plugins.installed("xodrlint.rules")] == ["ghost"]  # trusted
     extra = tmp_path / "site"
@@ -65,3 +65,35 @@ def test_each_environment_has_a_cache_file_of_its_own(monkeypatch: pytest.Monkey
     monkeypatch.setattr(sys, "prefix", "/opt/another-venv")
     assert plugins.cache_path().parent == here.parent
     assert plugins.cache_path() != here
+
+
+def test_ways_of_starting_xodrlint_in_one_environment_keep_their_own_keys(
+    tmp_path: Path,
+) -> None:
+    # the console script has its bin folder first on sys.path, python -m the current one
+    code = (
+        "import sys; sys.path[0] = sys.argv[1]; from xodrlint.plugins import installed; "
+        "installed('xodrlint.rules'); print('importlib.metadata' in sys.modules)"
+    )
+    starts = [tmp_path / "bin", tmp_path / "project"]
+    for start in starts:
+        start.mkdir()
+    scanned = [
+        subprocess.run(
+            [sys.executable, "-c", code, str(start)],
+            capture_output=True,
+            text=True,
+            check=True,
+            env=os.environ,
+        ).stdout.strip()
+        for start in starts * 2
+    ]
+    assert scanned == ["True", "True", "False", "False"]
+
+
+def test_a_cache_of_an_older_format_is_replaced(tmp_path: Path) -> None:
+    path = plugins.cache_path()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps({"format": 1, "key": [], "groups": {}}), "utf-8")
+    assert plugins.installed("xodrlint.rules")
+    assert json.loads(path.read_text("utf-8"))["format"] == plugins.FORMAT

@@ -6,7 +6,9 @@ are therefore kept in the user cache folder, keyed by the modification times of 
 folders on ``sys.path``: installing or removing a package changes its folder, so the
 next run scans again. Without a usable cache folder every run scans. Each environment
 (a project's venv, pre-commit's own) has a file of its own, so two of them used in turn
-do not rewrite one file on every run.
+do not rewrite one file on every run; and within a file the last few keys are kept, so
+that the console script and ``python -m xodrlint`` (whose ``sys.path`` differ in their
+first entry) do not evict each other.
 """
 
 from __future__ import annotations
@@ -18,13 +20,16 @@ import os
 import sys
 import zlib
 from pathlib import Path
-from typing import Final, NamedTuple
+from typing import Any, Final, NamedTuple
 
 from xodrlint.files import write_atomically
 
 GROUPS: Final = ("xodrlint.rules", "xodrlint.formatters")
 CACHE_ENV: Final = "XODRLINT_CACHE_DIR"
-FORMAT: Final = 1
+FORMAT: Final = 2
+#: Keys kept per environment: ways of starting xodrlint there (console script, ``-m``
+#: from a few folders).
+KEYS_KEPT: Final = 4
 
 
 class Plugin(NamedTuple):
@@ -62,12 +67,17 @@ def installed(group: str) -> list[Plugin]:
     """The entry points of ``group`` that installed distributions declare."""
     key = _environment_key()
     path = cache_path()
-    with contextlib.suppress(OSError, ValueError, TypeError, KeyError):
+    entries: list[dict[str, Any]] = []  # JSON, checked as it is used
+    with contextlib.suppress(OSError, ValueError, TypeError, KeyError, AttributeError):
         cached = json.loads(path.read_text(encoding="utf-8"))
-        if cached["format"] == FORMAT and cached["key"] == key:
-            return [Plugin(name, value, group) for name, value in cached["groups"][group]]
+        if cached["format"] == FORMAT:
+            entries = [entry for entry in cached["entries"] if isinstance(entry, dict)]
+            for entry in entries:
+                if entry["key"] == key:
+                    return [Plugin(name, value, group) for name, value in entry["groups"][group]]
     groups = _scan()
-    _store(path, {"format": FORMAT, "key": key, "groups": groups})
+    kept = [{"key": key, "groups": groups}, *entries][:KEYS_KEPT]
+    _store(path, {"format": FORMAT, "entries": kept})
     return [Plugin(name, value, group) for name, value in groups.get(group, [])]
 
 
