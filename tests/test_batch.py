@@ -7,6 +7,7 @@ import json
 import os
 import pickle
 import shutil
+import threading
 from pathlib import Path
 
 import pytest
@@ -164,3 +165,28 @@ def test_workers_get_the_largest_files_first_in_shrinking_messages() -> None:
 def test_equal_sizes_keep_input_order_and_one_file_is_one_message() -> None:
     assert schedule([4, 5, 6], [7, 7, 7], 4) == [[4], [5], [6]]
     assert schedule([], [], 2) == []
+
+
+def test_a_process_running_threads_gets_fresh_workers_not_forks(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from xodrlint import forkpool
+
+    def no_fork(*_: object) -> list[int]:
+        raise AssertionError("forked a process that runs threads")
+
+    monkeypatch.setattr(forkpool, "run_pieces", no_fork)
+    paths = []
+    for index in range(6):
+        paths.append(tmp_path / f"map{index}.xodr")
+        shutil.copy(REPO / "examples" / "broken.xodr", paths[-1])
+    release = threading.Event()
+    other = threading.Thread(target=release.wait)
+    other.start()
+    try:
+        linter = Linter(default_registry(), LintOptions())
+        reports = lint_tasks(linter, [Task(p, p.name) for p in paths], 2)
+    finally:
+        release.set()
+        other.join()
+    assert [len(r.findings) for r in reports] == [6] * 6

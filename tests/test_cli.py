@@ -535,3 +535,14 @@ def test_command_annotations_are_evaluated_once_at_import() -> None:
         annotations = inspect.get_annotations(info.callback)
         strings = [name for name, value in annotations.items() if isinstance(value, str)]
         assert not strings, f"{info.callback.__name__}: {strings}"
+
+
+def test_python_dash_m_runs_the_command_and_a_spawned_worker_does_not() -> None:
+    out = subprocess.run(
+        [sys.executable, "-m", "xodrlint", "--version"], capture_output=True, text=True, check=True
+    )
+    assert out.stdout == f"xodrlint {__version__}\n"
+    import runpy
+
+    # a spawned worker imports the parent's main module under this name
+    runpy.run_module("xodrlint", run_name="__mp_main__")

@@ -12,6 +12,7 @@ from __future__ import annotations
 import gc
 import os
 import sys
+import threading
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Final, NamedTuple
@@ -128,7 +129,7 @@ def _run_pool(
         def lint_chunk(number: int) -> list[FileReport]:
             return _lint_chunk(worker, [tasks[i] for i in chunks[number]])
 
-        if hasattr(os, "fork") and FORK_WORKERS:
+        if _can_fork_workers():
             # imported here: a single-file run (a pre-commit hook) never starts workers
             from xodrlint.forkpool import run_pieces
 
@@ -136,6 +137,13 @@ def _run_pool(
         else:
             broken = _run_executor(options, chunks, tasks, jobs, worker, deliver)
     return [index for number in broken for index in chunks[number]]
+
+
+def _can_fork_workers() -> bool:
+    # A fork copies only the thread that calls it, with every lock the others hold at
+    # that moment: a process running threads (an application calling the API from one)
+    # gets fresh workers from the executor instead.
+    return FORK_WORKERS and hasattr(os, "fork") and threading.active_count() == 1
 
 
 def _run_executor(
@@ -146,12 +154,16 @@ def _run_executor(
     worker: LintTask,
     deliver: Callable[[int, list[FileReport]], None],
 ) -> list[int]:
-    """Where there is no ``fork`` (Windows): spawned workers, each building its linter."""
+    """Where workers cannot be forked (Windows, a process with threads): fresh workers,
+    each building its own linter."""
+    import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
     from concurrent.futures.process import BrokenProcessPool
 
+    methods = multiprocessing.get_all_start_methods()
+    context = multiprocessing.get_context("forkserver" if "forkserver" in methods else "spawn")
     with ProcessPoolExecutor(
-        max_workers=jobs, initializer=_start_worker, initargs=(options,)
+        max_workers=jobs, mp_context=context, initializer=_start_worker, initargs=(options,)
     ) as pool:
         futures: dict[Future[list[FileReport]], int] = {
             pool.submit(_lint_chunk, worker, [tasks[i] for i in chunk]): number
