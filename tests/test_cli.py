@@ -546,3 +546,15 @@ def test_python_dash_m_runs_the_command_and_a_spawned_worker_does_not() -> None:
 
     # a spawned worker imports the parent's main module under this name
     runpy.run_module("xodrlint", run_name="__mp_main__")
+
+
+def test_the_last_linter_outlives_its_run_and_only_the_last() -> None:
+    # the command line exits without cleanup: the last map's tree is never freed, but a
+    # process running many checks holds one linter at most
+    from xodrlint import check
+
+    cli("check", CLEAN, code=0)
+    (kept,) = check._LAST_LINTER
+    cli("check", CLEAN, code=0)
+    (replaced,) = check._LAST_LINTER
+    assert replaced is not kept

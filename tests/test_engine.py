@@ -152,7 +152,7 @@ def test_a_linter_keeps_only_the_last_document_and_only_when_asked(
     monkeypatch: pytest.MonkeyPatch, keep: bool
 ) -> None:
     # a process that exits without cleanup (the CLI) never pays for freeing the last tree
-    from xodrlint import document, engine
+    from xodrlint import document, engine, model
 
     loaded: list[weakref.ref[Document]] = []
 
@@ -161,13 +161,23 @@ def test_a_linter_keeps_only_the_last_document_and_only_when_asked(
         loaded.append(weakref.ref(doc))
         return doc
 
-    real_load = document.load_bytes
+    networks: list[RailNetwork] = []
+
+    def build_network(root: object) -> RailNetwork:
+        networks.append(real_build(root))  # type: ignore[arg-type]
+        return networks[-1]
+
+    real_load, real_build = document.load_bytes, model.build_network
     monkeypatch.setattr(engine, "load_bytes", load_bytes)
+    monkeypatch.setattr(engine, "build_network", build_network)
     linter = Linter(load_registry(), keep_last_document=keep)
     for _ in range(2):
         linter.lint_path(REPO / "examples" / "clean.xodr")
     gc.collect()
     assert [ref() is not None for ref in loaded] == [False, keep]
+    # the model too: freeing a large one costs as much as its tree
+    kept = linter._last_document
+    assert (len(kept) == 2 and kept[1] is networks[-1]) if keep else kept == ()
 
 
 def test_warm_up_compiles_the_schema_the_header_asks_for_and_validates_nothing(

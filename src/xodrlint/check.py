@@ -236,8 +236,15 @@ def _linter(registry: Registry, settings: Settings, request: CheckRequest) -> Li
         keep_suppressed=request.show_suppressed,
         warn_unused_suppressions=settings.warn_unused_suppressions,
     )
-    # the command line exits without cleanup (cli.main): it never frees the last tree
-    return Linter(registry, options, keep_last_document=True)
+    # The command line exits without cleanup (cli.main): it never frees the last tree,
+    # nor the linter holding it, which outlives the run in this slot (one linter at most,
+    # for a process that runs many checks).
+    linter = Linter(registry, options, keep_last_document=True)
+    _LAST_LINTER[:] = [linter]
+    return linter
+
+
+_LAST_LINTER: list[Linter] = []
 
 
 def _formatter(name: str, request: CheckRequest) -> Formatter:

@@ -144,11 +144,11 @@ class Linter:
     ) -> None:
         self.registry = registry
         self.options = options or LintOptions()
-        # Freeing a 20 MB map's tree takes half a second. A process that exits without
-        # cleanup (the CLI) keeps the last document alive and never pays it; each lint
-        # replaces it, so at most one extra document is held.
+        # Freeing a 20 MB map's tree and model takes half a second. A process that exits
+        # without cleanup (the CLI) keeps the last document and its model alive and never
+        # pays it; each lint replaces them, so at most one extra document is held.
         self._keep_last_document = keep_last_document
-        self._last_document: Document | None = None
+        self._last_document: tuple[object, ...] = ()
         self.rules = select_rules(registry, self.options.select, self.options.ignore)
         self._codes = {r.code for r in self.rules}
         self._settings = resolve_rule_options(registry, self.options.rule_options)
@@ -194,7 +194,7 @@ class Linter:
         """Lint one document; ``external`` withholds codes in it from outside the file
         (``per-file-ignores``): (selector, justification) pairs."""
         doc = load_bytes(data, path)
-        self._last_document = doc if self._keep_last_document else None
+        self._last_document = ()
         problems: dict[str, list[Hit]] = {code: list(hits) for code, hits in doc.problems.items()}
         schema_label, builtin = None, False
         fatal = any(code in problems for code in FATAL_CODES)
@@ -204,6 +204,8 @@ class Linter:
         stamped: list[_Stamped] = []
         crashes: list[str] = []
         network = build_network(None if fatal else doc.root)
+        if self._keep_last_document:
+            self._last_document = (doc, network)
         self._run(self._model_rules, network, doc, stamped, crashes)
         check = pending.result() if pending is not None else None
         if check is not None:
