@@ -102,7 +102,7 @@ def _collect(pid: int, read_end: int, task: Callable[[], _T]) -> _T:
 # -- hits across the fork ------------------------------------------------------------------
 
 #: A hit as plain values: where its element is (child indices from the root), and the rest.
-_SentHit = tuple[tuple[int, ...] | None, str, int | None, int | None, str]
+SentHit = tuple[tuple[int, ...] | None, str, int | None, int | None, str]
 
 
 def start_hits(
@@ -111,15 +111,26 @@ def start_hits(
     """:func:`start` for a task that yields hits about ``root``'s tree: the child sends
     each hit's element as its position in the tree, and the parent finds it again there
     (the trees are the same: the child is a fork)."""
-    sent = start(lambda: [_send(hit, root) for hit in task()], size)
-    return Pending(lambda: [_receive(item, root) for item in sent.result()])
+    sent = start(lambda: send_hits(task(), root), size)
+    return Pending(lambda: receive_hits(sent.result(), root))
 
 
-def _send(hit: Hit, root: etree._Element) -> _SentHit:
+def send_hits(hits: list[Hit], root: etree._Element) -> list[SentHit]:
+    """``hits`` about ``root``'s tree as values a forked child can send its parent."""
+    return [_send(hit, root) for hit in hits]
+
+
+def receive_hits(sent: list[SentHit], root: etree._Element) -> list[Hit]:
+    """The hits :func:`send_hits` sent, with their elements found again in ``root``'s
+    tree (the same tree: the child is a fork)."""
+    return [_receive(item, root) for item in sent]
+
+
+def _send(hit: Hit, root: etree._Element) -> SentHit:
     return (_position(hit.element, root), hit.message, hit.line, hit.column, hit.kind)
 
 
-def _receive(item: _SentHit, root: etree._Element) -> Hit:
+def _receive(item: SentHit, root: etree._Element) -> Hit:
     position, message, line, column, kind = item
     element = None
     if position is not None:

@@ -59,6 +59,7 @@ from typing import Any, Final, Protocol
 
 from lxml import etree
 
+from xodrlint import background
 from xodrlint.document import Document
 from xodrlint.findings import Hit
 from xodrlint.schemas import SchemaLoadError
@@ -106,6 +107,10 @@ _PREFIXED_TYPE_OR_NIL: Final = re.compile(rb":(?:type|nil)\s*=")
 
 #: The second part of a split validation: the first part's hits in, the findings out.
 Finish = Callable[[list[Hit]], list[Hit]]
+#: What the assertion stage found: "checked" with its hits, "marks" (an element stands
+#: where a type alternative applies after all) or "full" (with the schema's reason, if
+#: the reason is the schema's), as values that cross a fork.
+_Stage = tuple[str, str, list[background.SentHit]]
 
 
 class HitSource(Protocol):
@@ -337,22 +342,46 @@ class FastXsd11Validator:
         forked child) while it does other work: libxml2 first, then the 1.1-only checks on
         libxml2's hits. Split only when libxml2 needs no type marks, so the first part
         needs no xmlschema model: no element of the document stands where the schema
-        allows type alternatives. Otherwise all of it is the first part."""
+        allows type alternatives. Otherwise all of it is the first part.
+
+        The assertions of a split validation need no libxml2 result either: on a large
+        document they run in a forked child of their own, beside libxml2's child and the
+        rules, and the caller, needing no xmlschema model for a valid document, never
+        loads one."""
         assert doc.tree is not None
         root = doc.tree.getroot()
         sites = self.form.alternative_sites
         if sites is None or self._unsupported is not None or _holds_a_site(doc, root, sites):
             return (lambda: list(self.hits(doc))), list
-        return (lambda: list(self._libxml2.hits(doc))), lambda raw: self._finish(doc, raw)
+        checks = background.start(lambda: self._assertion_stage(doc, root), len(doc.data))
+        return (
+            (lambda: list(self._libxml2.hits(doc))),
+            lambda raw: self._finish(doc, raw, checks.result()),
+        )
 
-    def _finish(self, doc: Document, raw: list[Hit]) -> list[Hit]:
-        assert doc.tree is not None
-        root = doc.tree.getroot()
+    def _assertion_stage(self, doc: Document, root: etree._Element) -> _Stage:
+        """The assertions' hits as values that cross a fork, or why they cannot stand."""
         try:
             model, plan = self._prepare(doc, root)
-            if plan.marks:  # the sites say this cannot be; if it is, validate with them
+            if plan.marks:
+                return ("marks", "", [])
+            hits = self._assertion_hits(root, model, plan)
+        except _NeedsFull:
+            return ("full", self._unsupported or "", [])
+        return ("checked", "", background.send_hits(hits, root))
+
+    def _finish(self, doc: Document, raw: list[Hit], stage: _Stage) -> list[Hit]:
+        assert doc.tree is not None
+        root = doc.tree.getroot()
+        outcome, unsupported, sent = stage
+        try:
+            if outcome == "full":
+                if unsupported:  # the schema's, not this document's: skip the split next time
+                    self._unsupported = unsupported
+                raise _NeedsFull(unsupported or "this document")
+            if outcome == "marks":  # the sites say this cannot be; if it is, use the marks
                 return list(self._fast_hits(doc))
-            return list(self._checked(root, model, plan, raw))
+            return list(self._checked(root, raw, background.receive_hits(sent, root)))
         except _NeedsFull:
             return list(self.full.hits(doc))
 
@@ -372,12 +401,28 @@ class FastXsd11Validator:
         model, plan = self._prepare(doc, root)
         with _xsi_types(plan.marks):
             raw = list(self._libxml2.hits(doc))
-        yield from self._checked(root, model, plan, raw)
+        yield from self._checked(root, raw, self._assertion_hits(root, model, plan))
 
-    def _checked(
-        self, root: etree._Element, model: _Model | None, plan: _Plan, raw: list[Hit]
-    ) -> Iterator[Hit]:
-        """libxml2's hits on the XSD 1.0 form, completed by the XSD 1.1-only checks."""
+    def _assertion_hits(self, root: etree._Element, model: _Model | None, plan: _Plan) -> list[Hit]:
+        """A hit for each failing assertion of the elements ``plan`` found."""
+        if model is None:
+            return []
+        memo: dict[Any, Any] = {}
+        try:
+            errors = [
+                error
+                for element, xsd_type in plan.asserted
+                for error in _assertion_errors(model, element, xsd_type, memo)
+            ]
+        except _NeedsFull:
+            raise
+        except Exception as error:  # (a subtree libxml2 skipped may hold anything)
+            raise _NeedsFull(f"an assertion could not be evaluated: {error}") from error
+        return list(self.full.error_hits(root, errors)) if errors else []
+
+    def _checked(self, root: etree._Element, raw: list[Hit], asserted: list[Hit]) -> Iterator[Hit]:
+        """libxml2's hits on the XSD 1.0 form, completed by the XSD 1.1-only checks: the
+        assertions' hits ``asserted``, and what libxml2 skipped."""
         skipped = self._skipped(raw)
         inside = _Subtrees(skipped)
         identity = self._identity_errors(root, skipped) if skipped else None
@@ -388,13 +433,8 @@ class FastXsd11Validator:
             # what libxml2 says inside a skipped subtree, xmlschema says again below
             if not inside.holds(moved.element):
                 yield moved
-        memo: dict[Any, Any] = {}
-        errors: list[Any] = [
-            error
-            for element, xsd_type in plan.asserted
-            if model is not None and not inside.holds(element)
-            for error in _assertion_errors(model, element, xsd_type, memo)
-        ]
+        yield from (hit for hit in asserted if not inside.holds(hit.element))
+        errors: list[Any] = []
         for element, declaration in skipped:
             errors.extend(declaration.iter_errors(element))
         if identity is not None:
