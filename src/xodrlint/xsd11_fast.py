@@ -29,9 +29,12 @@ in element, line, XPath and kind; a test proves it on the corpus and on mutated 
 4. **Two stages for a forked child** (:meth:`FastXsd11Validator.stages`): the form's
    cache also records, from one strict xmlschema build of the set, where an element
    with type alternatives can stand. A document with no element there needs no type
-   marks, so libxml2 runs alone in the child while the caller builds the xmlschema
-   model (with the meta-schema check that strict build made once) after its rules. That
-   model is kept pickled beside the form, so later runs load it instead of building it.
+   marks, so libxml2 runs alone in the child. The assertions need no libxml2 result:
+   on a large document a second child loads the xmlschema model and checks them, while
+   the caller runs its rules; the caller only merges, and loads the model itself only
+   when libxml2 skipped a subtree. The model (built with the meta-schema check that
+   strict build made once) is kept pickled beside the form, so runs load it instead of
+   building it.
 
 Messages of libxml2's errors come from ``xsd_messages`` (as for OpenDRIVE 1.7), those of
 the 1.1-only checks and of the recovered subtrees from xmlschema's reasons (as in full
