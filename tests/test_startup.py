@@ -69,3 +69,19 @@ def test_a_small_clean_run_loads_only_what_it_uses(tmp_path: Path) -> None:
         if name == heavy or name.startswith(heavy + ".")
     )
     assert loaded == []
+
+
+def test_value_types_are_made_without_compiling_their_annotations() -> None:
+    # typing compiles each string annotation of a named tuple when the class is made
+    from xodrlint import findings, model
+
+    quoted = {
+        f"{module.__name__}.{name}.{field}"
+        for module in (findings, model)
+        for name, value in vars(module).items()
+        if isinstance(value, type) and issubclass(value, tuple) and hasattr(value, "_fields")
+        for field, annotation in value.__annotations__.items()
+        if isinstance(annotation, str)
+    }
+    # lxml's element type is only imported for type checking there
+    assert quoted <= {"xodrlint.findings.Hit.element", "xodrlint.findings.Hit.related"}
