@@ -206,6 +206,26 @@ def test_readable_xpaths_use_ids_and_positions_only_where_needed() -> None:
     assert header is not None and doc.xpath_of(header) == "/OpenDRIVE/header"
 
 
+def test_every_readable_xpath_leads_back_to_its_element() -> None:
+    data = _doc(
+        '  <road id="a/b]"><lanes><laneSection/><laneSection><right><lane id="-1"/><lane id="-1"/>'
+        '</right></laneSection></lanes></road>\n  <road id="o\'k&quot;/"/>\n'
+        '  <road id="[x]"/><road/><road/><controller id="c"/>\n'
+    )
+    doc = load_bytes(data, "x.xodr")
+    root = doc.root
+    assert root is not None
+    elements = list(root.iter(etree.Element))
+    fresh = load_bytes(data, "x.xodr")  # no step named before the first lookup
+    for element, again in zip(elements, fresh.root.iter(etree.Element), strict=True):  # type: ignore[union-attr]
+        path = doc.xpath_of(element)
+        assert doc.element_at(path) is element, path
+        assert fresh.element_at(path) is again, path
+        assert root.getroottree().xpath(path) == [element]
+    for missing in ("/OpenDRIVE/road[@id='zz']", "/Other/road", "road", "", "/OpenDRIVE/road[9]"):
+        assert doc.element_at(missing) is None, missing
+
+
 def test_xpath_steps_are_built_once_per_sibling_group() -> None:
     filler = "".join(f'  <road length="{i}"/>\n' for i in range(3000))
     doc = load_bytes(_doc(filler), "many.xodr")

@@ -176,8 +176,19 @@ def test_a_linter_keeps_only_the_last_document_and_only_when_asked(
     gc.collect()
     assert [ref() is not None for ref in loaded] == [False, keep]
     # the model too: freeing a large one costs as much as its tree
-    kept = linter._last_document
-    assert (len(kept) == 2 and kept[1] is networks[-1]) if keep else kept == ()
+    kept = linter.last_document
+    if keep:
+        assert kept is not None
+        assert kept.document is loaded[-1]() and kept.network is networks[-1]
+    else:
+        assert kept is None
+
+
+def test_a_kept_document_with_a_fatal_problem_has_no_model() -> None:
+    linter = Linter(load_registry(), keep_last_document=True)
+    linter.lint_bytes(b"<OpenDRIVE><header", "broken.xodr")
+    kept = linter.last_document
+    assert kept is not None and kept.network is None
 
 
 def test_warm_up_compiles_the_schema_the_header_asks_for_and_validates_nothing(

@@ -11,6 +11,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -72,6 +73,28 @@ def test_map_of_the_broken_example_has_every_thing_and_finding(tmp_path: Path) -
     findings = data["findings"]
     assert isinstance(findings, list)
     assert [(f["line"], f["code"], f["xpath"]) for f in findings] == BROKEN_FINDINGS
+
+
+def test_the_map_parses_and_models_its_file_once(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from xodrlint import engine, model
+    from xodrlint.mapview import command
+
+    calls: list[str] = []
+
+    def counted(name: str, real: Any) -> Any:
+        def call(*args: Any) -> Any:
+            calls.append(name)
+            return real(*args)
+
+        return call
+
+    for module in (engine, command):
+        monkeypatch.setattr(module, "load_bytes", counted("parse", load_bytes))
+        monkeypatch.setattr(module, "build_network", counted("model", model.build_network))
+    cli("map", BROKEN, "-o", tmp_path / "m.html", code=1)
+    assert sorted(calls) == ["model", "parse"]
 
 
 def test_the_page_is_self_contained(tmp_path: Path) -> None:
@@ -186,8 +209,31 @@ def _placed(xpath: str, path: Path = BROKEN) -> tuple[float, float] | None:
     doc = load_bytes(path.read_bytes(), "b")
     assert doc.tree is not None
     network = build_network(doc.root)
-    point = Locator(doc.tree, network, Placer(network)).place(_finding(xpath))
+    point = Locator(doc, network, Placer(network)).place(_finding(xpath))
     return (round(point[0], 6), round(point[1], 6)) if point is not None else None
+
+
+class _NoXPathTree:
+    """A tree that refuses XPath evaluation: readable XPaths must be walked, not searched."""
+
+    def __init__(self, tree: etree._ElementTree) -> None:
+        self._tree = tree
+
+    def getroot(self) -> etree._Element:
+        return self._tree.getroot()
+
+    def xpath(self, _: str) -> object:
+        raise AssertionError("evaluated an XPath")
+
+
+def test_findings_are_located_by_walking_their_readable_xpath() -> None:
+    doc = load_bytes(BROKEN.read_bytes(), "b")
+    assert doc.tree is not None
+    network = build_network(doc.root)
+    elements = list(doc.tree.getroot().iter(etree.Element))
+    doc.tree = _NoXPathTree(doc.tree)  # type: ignore[assignment]
+    locator = Locator(doc, network, Placer(network))
+    assert [locator.element(doc.xpath_of(e)) for e in elements] == elements
 
 
 @pytest.mark.parametrize(

@@ -105,6 +105,14 @@ class Document:
     def xpath_of(self, element: etree._Element) -> str:
         return self._xpaths.path_of(element)
 
+    def element_at(self, xpath: str) -> etree._Element | None:
+        """The element :meth:`xpath_of` names ``xpath``, found step by step through
+        indexed children: evaluating such an XPath scans every sibling its ``[@id=...]``
+        predicate filters (10 ms per finding on a city map)."""
+        if self.tree is None:
+            return None
+        return self._xpaths.element_at(self.tree.getroot(), xpath)
+
     @cached_property
     def _start_lines(self) -> _StartTagLines:
         assert self.tree is not None, "line_of needs a parsed tree"
@@ -316,6 +324,21 @@ class _ReadableXPaths:
 
     def __init__(self) -> None:
         self._steps: dict[etree._Element, str] = {}
+        self._children: dict[etree._Element, dict[str, etree._Element]] = {}
+
+    def element_at(self, root: etree._Element, path: str) -> etree._Element | None:
+        steps = _split_steps(path)
+        if not steps or steps[0] != self._step(root):
+            return None
+        node = root
+        for step in steps[1:]:
+            if node not in self._children:
+                self._name_children(node)
+            found = self._children[node].get(step)
+            if found is None:
+                return None
+            node = found
+        return node
 
     def path_of(self, element: etree._Element) -> str:
         steps: list[str] = []
@@ -349,6 +372,7 @@ class _ReadableXPaths:
                 per_id[tag, ident] = per_id.get((tag, ident), 0) + 1
         seen_tag: dict[str, int] = {}
         seen_id: dict[tuple[str, str], int] = {}
+        named = self._children[parent] = {}
         for child, tag in children:
             seen_tag[tag] = seen_tag.get(tag, 0) + 1
             ident = _own_id(child, tag)
@@ -363,6 +387,7 @@ class _ReadableXPaths:
             else:
                 step = tag
             self._steps[child] = step
+            named[step] = child
 
 
 # Elements whose @id names *another* element (a road, a switch, a signal): it does not
@@ -389,6 +414,31 @@ def _own_id(element: etree._Element, tag: str) -> str | None:
 
 def _local_name(element: etree._Element) -> str:
     return etree.QName(element).localname
+
+
+def _split_steps(path: str) -> list[str]:
+    """The steps of an absolute XPath; a ``/`` inside a predicate's quotes is no break."""
+    if not path.startswith("/"):
+        return []
+    steps: list[str] = []
+    current: list[str] = []
+    depth, quote = 0, ""
+    for char in path[1:]:
+        if quote:
+            quote = "" if char == quote else quote
+        elif char in "'\"" and depth:
+            quote = char
+        elif char == "[":
+            depth += 1
+        elif char == "]":
+            depth -= 1
+        elif char == "/" and not depth:
+            steps.append("".join(current))
+            current = []
+            continue
+        current.append(char)
+    steps.append("".join(current))
+    return steps
 
 
 def _xpath_literal(value: str) -> str:

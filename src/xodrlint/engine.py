@@ -132,6 +132,11 @@ def _specificity(token: str, candidate: Rule) -> int | None:
     return None
 
 
+class LastDocument(NamedTuple):
+    document: Document
+    network: RailNetwork | None
+
+
 class Linter:
     """Lints documents with one set of options; schemas are compiled once and reused."""
 
@@ -148,7 +153,7 @@ class Linter:
         # without cleanup (the CLI) keeps the last document and its model alive and never
         # pays it; each lint replaces them, so at most one extra document is held.
         self._keep_last_document = keep_last_document
-        self._last_document: tuple[object, ...] = ()
+        self._last_document: LastDocument | None = None
         self.rules = select_rules(registry, self.options.select, self.options.ignore)
         self._codes = {r.code for r in self.rules}
         self._settings = resolve_rule_options(registry, self.options.rule_options)
@@ -190,11 +195,17 @@ class Linter:
             return FileReport(shown, error=_os_error(error, shown))
         return self.lint_bytes(data, shown, external)
 
+    @property
+    def last_document(self) -> LastDocument | None:
+        """The document the last lint read, and its model (``None`` when a fatal problem
+        left none), if the linter was made to keep them."""
+        return self._last_document
+
     def lint_bytes(self, data: bytes, path: str, external: ExternalIgnores = ()) -> FileReport:
         """Lint one document; ``external`` withholds codes in it from outside the file
         (``per-file-ignores``): (selector, justification) pairs."""
         doc = load_bytes(data, path)
-        self._last_document = ()
+        self._last_document = None
         problems: dict[str, list[Hit]] = {code: list(hits) for code, hits in doc.problems.items()}
         schema_label, builtin = None, False
         fatal = any(code in problems for code in FATAL_CODES)
@@ -205,7 +216,7 @@ class Linter:
         crashes: list[str] = []
         network = build_network(None if fatal else doc.root)
         if self._keep_last_document:
-            self._last_document = (doc, network)
+            self._last_document = LastDocument(doc, None if fatal else network)
         self._run(self._model_rules, network, doc, stamped, crashes)
         check = pending.result() if pending is not None else None
         if check is not None:

@@ -31,7 +31,7 @@ from xodrlint.mapview.page import html_page, standalone_svg
 from xodrlint.mapview.place import Placer
 from xodrlint.mapview.scene import Scene, build_scene
 from xodrlint.mapview.svg import PlacedFinding, frame_of
-from xodrlint.model import build_network
+from xodrlint.model import RailNetwork, build_network
 from xodrlint.output import error_line, write_output
 from xodrlint.registry import Registry
 from xodrlint.schemas import SchemaLoadError
@@ -72,12 +72,14 @@ def run_map(request: MapRequest) -> int:
         error_line(str(error))
         return 2
     _print_report(registry, report)
-    doc = load_bytes(data, report.path)
+    # the tree and model the linter kept: a city map is not parsed and modelled twice
+    kept = linter.last_document
+    doc, network = (kept.document, kept.network) if kept else (load_bytes(data, report.path), None)
     if not doc.is_opendrive:
         error_line(f"no map written: {report.path} is not an OpenDRIVE document")
         return 3 if report.internal_errors else 1
     started = time.perf_counter()
-    rendered = render_map(doc, report.findings, kind, request.tolerance)
+    rendered = render_map(doc, report.findings, kind, request.tolerance, network)
     try:
         write_output(request.output, partial(_write, rendered.text))
     except OSError as error:
@@ -88,14 +90,20 @@ def run_map(request: MapRequest) -> int:
 
 
 def render_map(
-    doc: Document, findings: Sequence[Finding], kind: str, tolerance: float
+    doc: Document,
+    findings: Sequence[Finding],
+    kind: str,
+    tolerance: float,
+    network: RailNetwork | None = None,
 ) -> RenderedMap:
-    """The page (``kind`` "html") or standalone SVG of an OpenDRIVE document."""
+    """The page (``kind`` "html") or standalone SVG of an OpenDRIVE document, whose
+    model ``network`` is built here unless given."""
     assert doc.tree is not None
-    network = build_network(doc.root)
+    if network is None:
+        network = build_network(doc.root)
     placer = Placer(network)
     scene = build_scene(doc, network, placer, tolerance)
-    locator = Locator(doc.tree, network, placer)
+    locator = Locator(doc, network, placer)
     placed = tuple(
         PlacedFinding(index, finding, locator.place(finding))
         for index, finding in enumerate(findings)

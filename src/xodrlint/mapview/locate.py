@@ -8,6 +8,7 @@ from collections.abc import Callable
 
 from lxml import etree
 
+from xodrlint.document import Document
 from xodrlint.findings import Finding
 from xodrlint.mapview.place import Placer, Point, geometry_start
 from xodrlint.model import RailNetwork, Road, Segment, Switch, number
@@ -16,8 +17,8 @@ from xodrlint.model import RailNetwork, Road, Segment, Switch, number
 class Locator:
     """Finds the element of a finding's XPath and the point it is drawn at."""
 
-    def __init__(self, tree: etree._ElementTree, network: RailNetwork, placer: Placer) -> None:
-        self._tree = tree
+    def __init__(self, doc: Document, network: RailNetwork, placer: Placer) -> None:
+        self._doc = doc
         self._placer = placer
         self._switches: dict[etree._Element, Switch] = {sw.element: sw for sw in network.switches}
         self._segments: dict[etree._Element, Segment] = {
@@ -37,8 +38,11 @@ class Locator:
         }
 
     def element(self, xpath: str) -> etree._Element | None:
+        found_fast = self._doc.element_at(xpath)  # the XPaths findings carry
+        if found_fast is not None or self._doc.tree is None:
+            return found_fast
         try:
-            found = self._tree.xpath(xpath)
+            found = self._doc.tree.xpath(xpath)
         except etree.XPathError:
             return None
         if isinstance(found, list) and found and isinstance(found[0], etree._Element):
