@@ -21,10 +21,10 @@ from xodrlint.document import Document, load_bytes
 from xodrlint.findings import Hit
 from xodrlint.schema import Libxml2Validator, SchemaValidators
 from xodrlint.schemas import SchemaFinder, SchemaLoadError, SchemaSet
+from xodrlint.schemas.source import XS
 from xodrlint.xsd10_form import CACHE_DIR_ENV, derive_xsd10, xsd10_form
 from xodrlint.xsd11 import Xsd11Validator
 from xodrlint.xsd11_fast import FastXsd11Validator, xsd11_validator
-from xodrlint.xsd_messages import XS
 
 from .conftest import CORPUS_RAIL, REPO, SHARED, SHARED_SCHEMAS, needs_shared
 

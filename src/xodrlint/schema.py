@@ -20,8 +20,8 @@ from xodrlint.background import Pending
 from xodrlint.document import Document, parser_line
 from xodrlint.findings import Hit
 from xodrlint.schemas import SchemaFinder, SchemaLoadError, SchemaSet
+from xodrlint.schemas.source import XS, read_schema_source
 from xodrlint.xsd_messages import (
-    XS,
     Explained,
     TypeCatalog,
     explain_libxml2,
@@ -108,33 +108,6 @@ class SchemaValidators:
         return validator
 
 
-def _schema_parser() -> etree.XMLParser:
-    # Schemas come from the user's disk; they may include their siblings but never reach
-    # the network or expand entities.
-    return etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False)
-
-
-def read_schema_documents(entry: Path) -> list[etree._ElementTree]:
-    """The entry XSD and every file it includes or imports, each parsed once."""
-    documents: list[etree._ElementTree] = []
-    pending, seen = [entry.resolve()], set()
-    while pending:
-        path = pending.pop()
-        if path in seen:
-            continue
-        seen.add(path)
-        try:
-            document = etree.parse(str(path), _schema_parser())
-        except (OSError, etree.XMLSyntaxError) as error:
-            raise SchemaLoadError(f"cannot read schema {path}: {error}") from error
-        documents.append(document)
-        for reference in document.getroot().iterchildren(f"{{{XS}}}include", f"{{{XS}}}import"):
-            location = reference.get("schemaLocation")
-            if location and "://" not in location:
-                pending.append((path.parent / location).resolve())
-    return documents
-
-
 def fix_known_schema_bugs(schema_root: etree._Element) -> None:
     """Repair published schema bugs in memory, recognised by structure, not by file name.
 
@@ -171,7 +144,7 @@ class Libxml2Validator:
     """An XSD 1.0 schema set compiled by libxml2."""
 
     def __init__(self, entry: Path) -> None:
-        documents = read_schema_documents(entry)
+        documents = read_schema_source(entry).trees
         fix_known_schema_bugs(documents[0].getroot())
         self.catalog = TypeCatalog.from_documents(d.getroot() for d in documents)
         try:

@@ -15,7 +15,6 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import json
-import os
 import pickle
 import shutil
 import sys
@@ -30,7 +29,7 @@ from lxml import etree
 from xodrlint import plugins
 from xodrlint.files import write_atomically
 from xodrlint.schemas import SchemaLoadError
-from xodrlint.xsd_messages import XS
+from xodrlint.schemas.source import XS, SchemaSource, read_schema_source
 
 #: Where derived schema forms are cached (default: the user cache folder).
 CACHE_DIR_ENV: Final = plugins.CACHE_ENV
@@ -53,54 +52,14 @@ _XSD11_TYPES: Final = frozenset(
 )
 
 
-@dataclass(frozen=True, slots=True)
-class SchemaSource:
-    """The files of one schema set: each path with its bytes and parsed tree."""
-
-    entry: Path
-    files: tuple[tuple[Path, bytes, etree._ElementTree], ...]
-
-    @property
-    def base(self) -> Path:
-        """The deepest folder holding every file (relative layout is kept below it)."""
-        return Path(os.path.commonpath([str(path.parent) for path, _, _ in self.files]))
-
-    def relative(self, path: Path) -> str:
-        return path.relative_to(self.base).as_posix()
-
-    @property
-    def key(self) -> str:
-        """SHA-256 of the derivation version and of every file, by its relative path."""
-        digest = hashlib.sha256(DERIVATION_VERSION.encode())
-        for path, data, _ in sorted(self.files, key=lambda item: self.relative(item[0])):
-            digest.update(b"\0" + self.relative(path).encode() + b"\0")
-            digest.update(hashlib.sha256(data).digest())
-        return digest.hexdigest()
-
-
-def read_schema_source(entry: Path) -> SchemaSource:
-    """The entry XSD and every local file it includes, imports or redefines."""
-    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False)
-    files: list[tuple[Path, bytes, etree._ElementTree]] = []
-    pending, seen = [Path(os.path.realpath(entry))], set()
-    while pending:
-        path = pending.pop()
-        if path in seen:
-            continue
-        seen.add(path)
-        try:
-            data = path.read_bytes()
-            tree = etree.ElementTree(etree.fromstring(data, parser, base_url=str(path)))
-        except (OSError, etree.XMLSyntaxError) as error:
-            raise SchemaLoadError(f"cannot read schema {path}: {error}") from error
-        files.append((path, data, tree))
-        for reference in tree.getroot().iterchildren(
-            f"{{{XS}}}include", f"{{{XS}}}import", f"{{{XS}}}redefine", f"{{{XS}}}override"
-        ):
-            location = reference.get("schemaLocation")
-            if location and "://" not in location:
-                pending.append(Path(os.path.realpath(path.parent / location)))
-    return SchemaSource(Path(os.path.realpath(entry)), tuple(files))
+def source_key(source: SchemaSource) -> str:
+    """SHA-256 of the derivation version and of every file, by its relative path: the
+    content, not the place, names a cached form."""
+    digest = hashlib.sha256(DERIVATION_VERSION.encode())
+    for path, data, _ in sorted(source.files, key=lambda item: source.relative(item[0])):
+        digest.update(b"\0" + source.relative(path).encode() + b"\0")
+        digest.update(hashlib.sha256(data).digest())
+    return digest.hexdigest()
 
 
 @dataclass
@@ -269,7 +228,7 @@ def xsd10_form(entry: Path) -> Iterator[Xsd10Form]:
     folder for as long as this context lasts (long enough to compile it).
     """
     source = read_schema_source(entry)
-    key = source.key
+    key = source_key(source)
     folder = cache_dir() / key
     form = _read_form(folder, source, key)
     if form is not None:

@@ -14,8 +14,8 @@ from typing import Final, NamedTuple
 from lxml import etree
 
 from xodrlint.findings import NO_ENTRIES
+from xodrlint.schemas.source import XS
 
-XS: Final = "http://www.w3.org/2001/XMLSchema"
 _ENUM_SHOWN: Final = 12
 
 _BUILTIN_TYPES: Final = {
