@@ -21,12 +21,23 @@ def _open_fds() -> set[str]:
 
 
 @pytest.fixture(autouse=True)
-def _nothing_left_behind() -> Iterator[None]:
+def _nothing_left_behind(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
+    forked: list[int] = []
+    real_fork = os.fork
+
+    def recorded_fork() -> int:
+        pid = real_fork()
+        if pid:
+            forked.append(pid)
+        return pid
+
+    monkeypatch.setattr(os, "fork", recorded_fork)
     before = _open_fds()
     yield
     assert _open_fds() <= before, "a pipe was left open"
-    with pytest.raises(ChildProcessError):  # every worker was waited for
-        os.waitpid(-1, os.WNOHANG)
+    for pid in forked:  # every worker was waited for (other tests' children are theirs)
+        with pytest.raises(ChildProcessError):
+            os.waitpid(pid, os.WNOHANG)
 
 
 def _square_with_pid(number: int) -> tuple[int, int]:
