@@ -207,3 +207,28 @@ def test_warm_up_compiles_the_schema_the_header_asks_for_and_validates_nothing(
     assert len(compiled) == 1
     (validator,) = compiled.values()
     assert isinstance(validator, schema.Libxml2Validator | schema.BuiltinRailroadValidator)
+
+
+@pytest.mark.parametrize("enabled", [True, False])
+def test_the_collector_is_paused_while_a_document_is_linted(
+    monkeypatch: pytest.MonkeyPatch, enabled: bool
+) -> None:
+    # a model is millions of young objects: collecting them as they are made cost
+    # time growing with the square of the map
+    from xodrlint import engine, model
+
+    seen: list[bool] = []
+
+    def build_network(root: object) -> RailNetwork:
+        seen.append(gc.isenabled())
+        return model.build_network(root)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(engine, "build_network", build_network)
+    was = gc.isenabled()
+    (gc.enable if enabled else gc.disable)()
+    try:
+        Linter(load_registry([BUILTIN_POINT])).lint_path(REPO / "examples" / "clean.xodr")
+        assert seen == [False]
+        assert gc.isenabled() is enabled  # as the caller left it
+    finally:
+        (gc.enable if was else gc.disable)()

@@ -9,9 +9,10 @@ one-defect-one-finding policy and sorts.
 from __future__ import annotations
 
 import contextlib
+import gc
 import math
 import re
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Final, NamedTuple
 
@@ -132,6 +133,25 @@ def _specificity(token: str, candidate: Rule) -> int | None:
     return None
 
 
+@contextlib.contextmanager
+def _collector_paused() -> Iterator[None]:
+    """The cyclic garbage collector off while one document is linted.
+
+    A model is millions of young objects and almost no cycles (refcounting frees it);
+    each collection walks all of them, so the collector's time grew with the square of
+    the map: 0.17 s on 20 MB, 0.71 s on 40 MB. Cycles made meanwhile are collected
+    once it is back on.
+    """
+    if not gc.isenabled():  # the caller's choice (or an outer lint): leave it as it is
+        yield
+        return
+    gc.disable()
+    try:
+        yield
+    finally:
+        gc.enable()
+
+
 class LastDocument(NamedTuple):
     document: Document
     network: RailNetwork | None
@@ -204,6 +224,10 @@ class Linter:
     def lint_bytes(self, data: bytes, path: str, external: ExternalIgnores = ()) -> FileReport:
         """Lint one document; ``external`` withholds codes in it from outside the file
         (``per-file-ignores``): (selector, justification) pairs."""
+        with _collector_paused():
+            return self._lint_bytes(data, path, external)
+
+    def _lint_bytes(self, data: bytes, path: str, external: ExternalIgnores) -> FileReport:
         doc = load_bytes(data, path)
         self._last_document = None
         problems: dict[str, list[Hit]] = {code: list(hits) for code, hits in doc.problems.items()}
