@@ -82,14 +82,6 @@ class SchemaValidators:
         if schema is not None:
             self._validator(schema)
 
-    def check(self, doc: Document) -> SchemaCheck | None:
-        """Validate ``doc``; ``None`` when it has no readable version to pick a schema by."""
-        schema = self.schema_for(doc)
-        if schema is None or doc.tree is None:
-            return None
-        validator = self._validator(schema)
-        return SchemaCheck(schema, tuple(validator.hits(doc)))
-
     def _validator(self, schema: SchemaSet) -> Validator:
         key = (schema.entry, schema.is_builtin)
         validator = self._compiled.get(key)
