@@ -72,7 +72,7 @@ class Command:
 
 
 def _entry(schemas: Path, version: str) -> Path:
-    from xodrlint.schemas import SchemaFinder
+    from xodrlint.validation.sets import SchemaFinder
 
     major, minor = (int(part) for part in version.split("."))
     found = SchemaFinder(option=schemas).find(major, minor)

@@ -7,9 +7,9 @@ import os
 
 import pytest
 
-from xodrlint import background
 from xodrlint.api import default_registry
 from xodrlint.engine import Linter, LintOptions
+from xodrlint.workers import background
 
 from .conftest import REPO, SHARED_SCHEMAS, needs_shared
 

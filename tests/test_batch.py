@@ -13,12 +13,12 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner, Result
 
-from xodrlint import batch
 from xodrlint.api import default_registry
-from xodrlint.batch import SHARE_PER_MESSAGE, Task, lint_in_worker, lint_tasks, schedule
 from xodrlint.cli import app
 from xodrlint.engine import Linter, LintOptions
 from xodrlint.findings import FileReport
+from xodrlint.workers import batch
+from xodrlint.workers.batch import SHARE_PER_MESSAGE, Task, lint_in_worker, lint_tasks, schedule
 
 from .conftest import REPO
 
@@ -116,7 +116,7 @@ def test_progress_bar_only_on_a_terminal_and_for_many_files(
 ) -> None:
     import sys
 
-    from xodrlint.batch import MIN_FILES_FOR_PROGRESS, _Progress
+    from xodrlint.workers.batch import MIN_FILES_FOR_PROGRESS, _Progress
 
     assert _Progress(MIN_FILES_FOR_PROGRESS, enabled=True)._bar is None  # stderr is a pipe
     monkeypatch.setattr(sys, "stderr", _Terminal())
@@ -170,7 +170,7 @@ def test_equal_sizes_keep_input_order_and_one_file_is_one_message() -> None:
 def test_a_process_running_threads_gets_fresh_workers_not_forks(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from xodrlint import forkpool
+    from xodrlint.workers import forkpool
 
     def no_fork(*_: object) -> list[int]:
         raise AssertionError("forked a process that runs threads")

@@ -22,7 +22,7 @@ from typer.testing import CliRunner, Result
 from xodrlint import __version__
 from xodrlint.api import default_registry
 from xodrlint.cli import app
-from xodrlint.schemas.store import install_wheel
+from xodrlint.validation.store import install_wheel
 
 from .conftest import REPO
 
@@ -514,7 +514,7 @@ def _plain_env() -> dict[str, str]:
 
 
 def test_only_the_invoked_command_is_built() -> None:
-    from xodrlint.cli import _invoked_alone
+    from xodrlint.cli.entry import _invoked_alone
 
     alone = _invoked_alone(["check", "maps/"])
     assert alone is not None
@@ -551,7 +551,7 @@ def test_python_dash_m_runs_the_command_and_a_spawned_worker_does_not() -> None:
 def test_the_last_linter_outlives_its_run_and_only_the_last() -> None:
     # the command line exits without cleanup: the last map's tree is never freed, but a
     # process running many checks holds one linter at most
-    from xodrlint import check
+    from xodrlint.cli import check
 
     cli("check", CLEAN, code=0)
     (kept,) = check._LAST_LINTER

@@ -8,7 +8,7 @@ import re
 import pytest
 
 from xodrlint.api import default_registry
-from xodrlint.docgen import generate
+from xodrlint.cli.docgen import generate
 from xodrlint.findings import RuleMeta
 
 from .conftest import REPO
@@ -76,9 +76,9 @@ def test_options_and_deferrals_are_documented(meta: RuleMeta) -> None:
 def test_docs_rules_are_generated() -> None:
     pages = generate(REPO, METAS)
     for path, text in pages.items():
-        assert path.is_file(), f"{path.name} missing: run python -m xodrlint.docgen"
+        assert path.is_file(), f"{path.name} missing: run python -m xodrlint.cli.docgen"
         assert path.read_text(encoding="utf-8") == text, (
-            f"{path.name} is stale: run python -m xodrlint.docgen"
+            f"{path.name} is stale: run python -m xodrlint.cli.docgen"
         )
     extra = {p.name for p in (REPO / "docs" / "rules").glob("*.md")} - {p.name for p in pages}
     assert not extra, f"pages without a rule: {extra}"
@@ -101,9 +101,9 @@ def test_inferred_rules_say_so(meta: RuleMeta) -> None:
 
 
 def test_output_formats_page_is_generated() -> None:
-    from xodrlint.docgen import formats_page
+    from xodrlint.cli.docgen import formats_page
 
     page = REPO / "docs" / "output-formats.md"
     assert page.read_text("utf-8") == formats_page(REPO), (
-        "docs/output-formats.md is stale: run python -m xodrlint.docgen"
+        "docs/output-formats.md is stale: run python -m xodrlint.cli.docgen"
     )

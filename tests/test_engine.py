@@ -194,7 +194,7 @@ def test_a_kept_document_with_a_fatal_problem_has_no_model() -> None:
 def test_warm_up_compiles_the_schema_the_header_asks_for_and_validates_nothing(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    from xodrlint import schema
+    from xodrlint.validation import libxml2 as schema
 
     def no_validation(*_: object) -> Iterator[Hit]:
         raise AssertionError("warm-up validated a document")

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from xodrlint.forkpool import IN_FLIGHT, run_pieces
+from xodrlint.workers.forkpool import IN_FLIGHT, run_pieces
 
 pytestmark = pytest.mark.skipif(not hasattr(os, "fork"), reason="needs os.fork")
 

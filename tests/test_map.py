@@ -18,9 +18,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from lxml import etree
 
+from xodrlint.cli.map import render_map
 from xodrlint.document import load_bytes
 from xodrlint.findings import Finding, Severity
-from xodrlint.mapview.command import render_map
 from xodrlint.mapview.locate import Locator
 from xodrlint.mapview.place import Placer
 from xodrlint.mapview.svg import path_data
@@ -79,7 +79,7 @@ def test_the_map_parses_and_models_its_file_once(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     from xodrlint import engine, model
-    from xodrlint.mapview import command
+    from xodrlint.cli import map as command
 
     calls: list[str] = []
 

@@ -9,7 +9,14 @@ from hypothesis import strategies as st
 from lxml import etree
 
 from xodrlint.model import build_network
-from xodrlint.profile import Piecewise, Poly, centre_terms, extremes, lane_offset, lane_width
+from xodrlint.model.lane_profiles import (
+    Piecewise,
+    Poly,
+    centre_terms,
+    extremes,
+    lane_offset,
+    lane_width,
+)
 
 
 def _sampled(terms: list[tuple[float, Piecewise]], start: float, end: float) -> list[float]:

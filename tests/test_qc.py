@@ -297,7 +297,7 @@ def test_the_documented_configuration_runs(tmp_path: Path, monkeypatch: pytest.M
 
 
 def test_the_documented_manifest_is_the_one_written() -> None:
-    from xodrlint.qc import module_manifest
+    from xodrlint.cli.qc import module_manifest
 
     shown = json.loads(_blocks("json")[0])
     written = module_manifest()

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from xodrlint.api import default_registry
-from xodrlint.docgen import Case, cases_of
+from xodrlint.cli.docgen import Case, cases_of
 from xodrlint.engine import Linter, LintOptions
 
 from .conftest import REPO

@@ -10,7 +10,7 @@ import pytest
 from xodrlint.api import default_registry
 from xodrlint.engine import Linter, LintOptions
 from xodrlint.findings import FileReport
-from xodrlint.schemas import Origin, SchemaFinder, builtin_set
+from xodrlint.validation.sets import Origin, SchemaFinder, builtin_set
 
 from .conftest import CORPUS_RAIL, REPO, SHARED_SCHEMAS, needs_shared
 
@@ -168,7 +168,7 @@ def test_builtin_schema_flags_railroad_in_versions_before_1_4() -> None:
 
 
 def test_broken_user_schema_is_a_setup_error(tmp_path: Path) -> None:
-    from xodrlint.schemas import SchemaLoadError
+    from xodrlint.validation.sets import SchemaLoadError
 
     (tmp_path / "bad.xsd").write_text(
         "<xs:schema xmlns:xs='http://www.w3.org/2001/XMLSchema'><xs:element/></xs:schema>"

@@ -21,14 +21,14 @@ NOT_FOR_A_SMALL_JSON_RUN = (
     "multiprocessing",
     "concurrent.futures",
     "importlib.metadata",
-    "xodrlint.xsd11",
-    "xodrlint.xsd11_fast",
-    "xodrlint.xsd10_form",
+    "xodrlint.validation.xsd11.full",
+    "xodrlint.validation.xsd11.fast",
+    "xodrlint.validation.xsd11.form",
     "xodrlint.formatters.sarif",
     "xodrlint.formatters.xqar",
     "xodrlint.mapview",
     "xodrlint.geometry",
-    "xodrlint.qc",
+    "xodrlint.cli.qc",
 )
 
 _RUN = """

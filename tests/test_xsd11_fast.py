@@ -16,15 +16,18 @@ from unittest import mock
 import pytest
 from lxml import etree
 
-from xodrlint import background, xsd11_fast
 from xodrlint.document import Document, load_bytes
 from xodrlint.findings import Hit
-from xodrlint.schema import Libxml2Validator, SchemaValidators
-from xodrlint.schemas import SchemaFinder, SchemaLoadError, SchemaSet
-from xodrlint.schemas.source import XS
-from xodrlint.xsd10_form import CACHE_DIR_ENV, derive_xsd10, xsd10_form
-from xodrlint.xsd11 import Xsd11Validator
-from xodrlint.xsd11_fast import FastXsd11Validator, xsd11_validator
+from xodrlint.validation.libxml2 import Libxml2Validator
+from xodrlint.validation.sets import SchemaFinder, SchemaLoadError, SchemaSet
+from xodrlint.validation.source import XS
+from xodrlint.validation.validators import SchemaValidators
+from xodrlint.validation.xsd11 import fast as xsd11_fast
+from xodrlint.validation.xsd11.alternatives import holds_a_site
+from xodrlint.validation.xsd11.fast import FastXsd11Validator, xsd11_validator
+from xodrlint.validation.xsd11.form import CACHE_DIR_ENV, derive_xsd10, xsd10_form
+from xodrlint.validation.xsd11.full import Xsd11Validator
+from xodrlint.workers import background
 
 from .conftest import CORPUS_RAIL, REPO, SHARED, SHARED_SCHEMAS, needs_shared
 
@@ -591,7 +594,7 @@ def test_the_second_compile_reuses_the_cached_form(
     def never(*args: Any) -> None:
         raise AssertionError("derived again")
 
-    monkeypatch.setattr("xodrlint.xsd10_form.derive_xsd10", never)
+    monkeypatch.setattr("xodrlint.validation.xsd11.form.derive_xsd10", never)
     second = xsd11_validator(_entry("1.8.0"), Libxml2Validator)
     assert isinstance(second, FastXsd11Validator) and second.form.key == first.form.key
     assert {p: p.stat().st_mtime_ns for p in folders[0].iterdir()} == written
@@ -755,7 +758,7 @@ def test_a_site_the_byte_scan_misses_is_validated_with_its_marks(
     assert doc.tree is not None and doc.tree.getroot().find("junction") is not None
     fast = pairs["1.9.0"].fast
     assert fast.form.alternative_sites is not None
-    assert not xsd11_fast._holds_a_site(doc, doc.tree.getroot(), fast.form.alternative_sites)
+    assert not holds_a_site(doc, doc.tree.getroot(), fast.form.alternative_sites)
     assert _same_findings(pairs["1.9.0"], data.encode(), "prefixed")
 
 
@@ -800,7 +803,7 @@ def test_the_fast_path_in_a_forked_child_marks_types_there_or_in_the_fallback(
 ) -> None:
     import os
 
-    from xodrlint import background
+    from xodrlint.workers import background
 
     fast = pairs["1.9.0"].fast
     data = _document("1.9.0", ALTERNATIVE_CASES["connection", "@type='virtual'"])

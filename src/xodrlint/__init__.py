@@ -8,8 +8,13 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+from xodrlint import _moved
+
 __version__ = "0.1.0"
 __all__ = ["__version__", "lint_bytes", "lint_file"]
+
+# Paths of the flat layout (xodrlint.schemas, xodrlint.batch, ...) keep working until 0.2.
+_moved.install()
 
 if TYPE_CHECKING:
     from xodrlint.api import lint_bytes, lint_file

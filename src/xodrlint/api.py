@@ -3,7 +3,7 @@
 ``lint_file`` and ``lint_bytes`` lint one input; ``collect_inputs`` expands the paths
 ``xodrlint check`` takes (files, folders, globs). A pipeline (Dask, Spark, a CI matrix)
 can call ``lint_file`` per file (the linter behind it is cached, so schemas compile once
-per process); :func:`xodrlint.batch.lint_tasks` spreads many files over processes.
+per process); :func:`xodrlint.workers.batch.lint_tasks` spreads many files over processes.
 """
 
 from __future__ import annotations

@@ -34,14 +34,14 @@ from xodrlint.messages import one_line
 from xodrlint.model import RailNetwork, build_network
 from xodrlint.registry import Registry
 from xodrlint.rules import Rule
-from xodrlint.schema import SchemaValidators
-from xodrlint.schemas import Origin, SchemaFinder, SchemaLoadError
 from xodrlint.suppress import (
     Suppressions,
     may_hold_directives,
     read_directives,
     unused_findings,
 )
+from xodrlint.validation.sets import Origin, SchemaFinder, SchemaLoadError
+from xodrlint.validation.validators import SchemaValidators
 
 SCHEMA_RULE: Final = "XS006"
 #: Findings of these rules mean the file is not an OpenDRIVE tree: nothing else runs.

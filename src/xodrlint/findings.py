@@ -55,6 +55,12 @@ class Hit(NamedTuple):
     defers_to: tuple[str, ...] | None = None
 
 
+#: Hit kinds of schema errors about a missing or misplaced child element (libxml2 words a
+#: missing child either way, depending on what else the parent holds): the schema stage
+#: sets them, XS006 reads them.
+CHILD_KINDS: Final = frozenset({"missing_child", "unexpected_element", "unexpected_element_bare"})
+
+
 class Location(NamedTuple):
     """Another place a finding points to, for reports that can show it."""
 

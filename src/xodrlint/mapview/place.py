@@ -11,7 +11,7 @@ from lxml import etree
 from xodrlint.geometry import Pose, ReferenceLine, reference_line
 from xodrlint.geometry.sampling import drawable
 from xodrlint.model import Lane, LaneSection, RailNetwork, Road, Segment, number
-from xodrlint.profile import Piecewise, centre_terms, lane_offset
+from xodrlint.model.lane_profiles import Piecewise, centre_terms, lane_offset
 
 Point = tuple[float, float]
 Terms = list[tuple[float, Piecewise]]

@@ -11,7 +11,7 @@ from xodrlint.document import Document
 from xodrlint.geometry import polylines
 from xodrlint.mapview.place import Placer, Point, lateral_value
 from xodrlint.model import RailNetwork, Road
-from xodrlint.profile import centre_terms
+from xodrlint.model.lane_profiles import centre_terms
 
 Runs = list[list[Point]]
 

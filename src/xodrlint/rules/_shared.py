@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Iterator
 from typing import Final, TypeVar
 
-from xodrlint.profile import S_TOLERANCE
+from xodrlint.model.lane_profiles import S_TOLERANCE
 
 __all__ = ["S_TOLERANCE", "later_duplicates", "metres", "quoted", "within"]
 

@@ -45,10 +45,9 @@ from typing import Final
 
 from lxml import etree
 
-from xodrlint.findings import Hit, Severity
+from xodrlint.findings import CHILD_KINDS, Hit, Severity
 from xodrlint.model import RailNetwork
 from xodrlint.rules import rule
-from xodrlint.xsd_messages import CHILD_KINDS
 
 #: Which railroad rule reports a schema identity error better, by kind and element.
 TAKEN_OVER_BY: Final = {

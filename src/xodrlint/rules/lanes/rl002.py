@@ -65,7 +65,7 @@ from typing import Final
 
 from xodrlint.findings import Hit, RuleOption, Severity
 from xodrlint.model import NON_TRAFFIC_LANE_TYPES, RAIL_LANE_TYPES, RailNetwork, Road
-from xodrlint.profile import S_TOLERANCE, centre_terms, extremes
+from xodrlint.model.lane_profiles import S_TOLERANCE, centre_terms, extremes
 from xodrlint.rules import Settings, rule
 from xodrlint.rules._shared import metres
 from xodrlint.rules.lanes._labels import lane_label

@@ -54,7 +54,7 @@ from typing import Final
 
 from xodrlint.findings import Hit, RuleOption, Severity
 from xodrlint.model import RailNetwork
-from xodrlint.profile import S_TOLERANCE, extremes, lane_width
+from xodrlint.model.lane_profiles import S_TOLERANCE, extremes, lane_width
 from xodrlint.rules import Settings, rule
 from xodrlint.rules._shared import metres
 from xodrlint.rules.lanes._labels import lane_label

@@ -42,7 +42,7 @@ from collections.abc import Iterator
 
 from xodrlint.findings import Hit, Severity
 from xodrlint.model import RailNetwork
-from xodrlint.profile import S_TOLERANCE
+from xodrlint.model.lane_profiles import S_TOLERANCE
 from xodrlint.rules import rule
 from xodrlint.rules._shared import metres, quoted
 from xodrlint.rules.stations._walk import segments_with_platform

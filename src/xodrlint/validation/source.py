@@ -14,7 +14,7 @@ from typing import Final
 
 from lxml import etree
 
-from xodrlint.schemas import SchemaLoadError
+from xodrlint.validation.sets import SchemaLoadError
 
 XS: Final = "http://www.w3.org/2001/XMLSchema"
 _REFERENCES: Final = tuple(

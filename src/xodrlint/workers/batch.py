@@ -131,7 +131,7 @@ def _run_pool(
 
         if _can_fork_workers():
             # imported here: a single-file run (a pre-commit hook) never starts workers
-            from xodrlint.forkpool import run_pieces
+            from xodrlint.workers.forkpool import run_pieces
 
             broken = run_pieces(len(chunks), lint_chunk, jobs, deliver)
         else:

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
 from typing import Final
 
-from xodrlint.schemas import entry_xsd, user_schema_dir, version_of_set
+from xodrlint.validation.sets import entry_xsd, user_schema_dir, version_of_set
 
 QC_WHEEL: Final = "asam_qc_opendrive-1.0.0-py3-none-any.whl"
 QC_REQUIREMENT: Final = "asam-qc-opendrive==1.0.0"

@@ -7,7 +7,7 @@ The form is written into the user cache folder, keyed by a SHA-256 of the source
 with a manifest of what the derivation did, the result of one strict xmlschema build of
 the set (later builds may skip the meta-schema check), where type alternatives can
 apply, and, once built, xmlschema's model of the set pickled beside it.
-:mod:`xodrlint.xsd11_fast` validates with it.
+:mod:`xodrlint.validation.xsd11.fast` validates with it.
 """
 
 from __future__ import annotations
@@ -28,8 +28,8 @@ from lxml import etree
 
 from xodrlint import plugins
 from xodrlint.files import write_atomically
-from xodrlint.schemas import SchemaLoadError
-from xodrlint.schemas.source import XS, SchemaSource, read_schema_source
+from xodrlint.validation.sets import SchemaLoadError
+from xodrlint.validation.source import XS, SchemaSource, read_schema_source
 
 #: Where derived schema forms are cached (default: the user cache folder).
 CACHE_DIR_ENV: Final = plugins.CACHE_ENV
@@ -280,7 +280,7 @@ def full_validator(entry: Path, form: Xsd10Form) -> Any:
     earlier run left it there (0.13 s instead of a 0.44 s build on the 1.8 sets). Only a
     set that passed the strict build is kept, so the pickle always holds a checked one;
     it is keyed by the versions of xmlschema, elementpath and Python that wrote it."""
-    from xodrlint.xsd11 import Xsd11Validator
+    from xodrlint.validation.xsd11.full import Xsd11Validator
 
     if not (form.cached and form.schema_checked):
         return Xsd11Validator(entry, schema_checked=form.schema_checked)
@@ -315,7 +315,7 @@ def _sites_of(value: object) -> frozenset[tuple[str, str]] | None:
 
 def _check_strictly(entry: Path, derivation: Derivation) -> None:
     """Build the source set strictly once, and note what later runs may rely on."""
-    from xodrlint.xsd11 import Xsd11Validator
+    from xodrlint.validation.xsd11.full import Xsd11Validator
 
     try:
         schema = Xsd11Validator(entry).schema

@@ -112,7 +112,7 @@ def run_qc(
         write_output(None if manifest == STDOUT else manifest, _write_manifest)
         return 0
     from xodrlint.api import default_registry
-    from xodrlint.check import CheckRequest, run_check
+    from xodrlint.cli.check import CheckRequest, run_check
 
     try:
         run = _run_for(config, input_file, output, default_registry())

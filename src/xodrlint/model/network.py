@@ -1,4 +1,4 @@
-"""Stage 3, model: one pass over the tree builds the read-only indexes all rules share.
+"""The model's indexes: one pass over the tree builds the read-only facts all rules share.
 
 Only the subtrees railroad rules care about are visited (``road/lanes``,
 ``road/railroad``, ``station``), so building the model costs a fraction of parsing.

@@ -14,7 +14,7 @@ from typing import Final, NamedTuple
 from lxml import etree
 
 from xodrlint.findings import NO_ENTRIES
-from xodrlint.schemas.source import XS
+from xodrlint.validation.source import XS
 
 _ENUM_SHOWN: Final = 12
 
@@ -196,10 +196,6 @@ _REWRITES: Final[tuple[tuple[str, str], ...]] = (
 )
 
 _ABSTRACT: Final = r"^The type definition is abstract\.?$"
-
-#: Kinds of errors about a missing or misplaced child element (libxml2 words a missing
-#: child either way, depending on what else the parent holds).
-CHILD_KINDS: Final = frozenset({"missing_child", "unexpected_element", "unexpected_element_bare"})
 
 
 class Explained(NamedTuple):

@@ -22,7 +22,6 @@ from xodrlint.api import (
     too_large,
 )
 from xodrlint.baseline import BaselineError
-from xodrlint.batch import Task, default_jobs, lint_tasks
 from xodrlint.config import (
     COMMAND_LINE,
     ConfigError,
@@ -46,8 +45,9 @@ from xodrlint.findings import NO_ENTRIES, FileReport, RunResult
 from xodrlint.formatters import Formatter, available, get_formatter
 from xodrlint.output import STDOUT, error_line, write_output
 from xodrlint.registry import Registry
-from xodrlint.schemas import SCHEMA_PATH_ENV, Origin, SchemaLoadError
 from xodrlint.suppress import UNUSED_META
+from xodrlint.validation.sets import SCHEMA_PATH_ENV, Origin, SchemaLoadError
+from xodrlint.workers.batch import Task, default_jobs, lint_tasks
 
 FULL_VALIDATION_NOTE: Final = (
     "only railroad elements were validated (built-in schema); for full OpenDRIVE "

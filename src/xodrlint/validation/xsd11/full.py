@@ -1,4 +1,5 @@
-"""Stage 2 for OpenDRIVE 1.8 and later: XSD 1.1 validation with xmlschema.
+"""Full XSD 1.1 validation with xmlschema: the reference the fast path must equal, and its
+fallback.
 
 Imported only when a 1.8/1.9 file meets an official schema: xmlschema takes a while to
 import and to build a schema. Its errors are mapped to the same XS006 hits as libxml2's:
@@ -19,13 +20,13 @@ from lxml import etree
 
 from xodrlint.document import Document
 from xodrlint.findings import Hit
-from xodrlint.schemas import SchemaLoadError
-from xodrlint.xsd_messages import (
+from xodrlint.validation.messages import (
     duplicate_key_message,
     missing_reference_message,
     quoted_list,
     sentence,
 )
+from xodrlint.validation.sets import SchemaLoadError
 
 _KEY_NOT_FOUND: Final = re.compile(r"value (?P<v>\(.*\)) not found for \w+\(name='(?P<k>[^']+)'\)")
 _DUPLICATE: Final = re.compile(r"duplicated value (?P<v>\(.*\)) for \w+\(name='(?P<k>[^']+)'\)")

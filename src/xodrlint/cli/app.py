@@ -1,12 +1,11 @@
-"""The ``xodrlint`` command: gathers options, builds a run, hands off. No logic lives here."""
+"""The ``xodrlint`` command line as typer declarations: every command's arguments, options
+and help, each handing off to its own module in this package. No logic lives here."""
 
 # No ``from __future__ import annotations``: typer reads the parameters' annotations at
 # run time, and a string annotation costs an eval (a compile) each, 20 ms per run.
-import os
-import sys
 from enum import StrEnum
 from pathlib import Path
-from typing import Annotated, Final, NoReturn
+from typing import Annotated, NoReturn
 
 import typer
 
@@ -241,7 +240,7 @@ def check(
     ] = None,
 ) -> None:
     """Lint OpenDRIVE files and report findings."""
-    from xodrlint.check import CheckRequest, run_check
+    from xodrlint.cli.check import CheckRequest, run_check
 
     code = run_check(
         CheckRequest(
@@ -315,7 +314,7 @@ def qc_command(
     ] = None,
 ) -> None:
     """Run as a checker bundle of the ASAM Quality Checker framework (writes XQAR)."""
-    from xodrlint.qc import run_qc
+    from xodrlint.cli.qc import run_qc
 
     raise typer.Exit(run_qc(config, input_file, output, manifest))
 
@@ -341,8 +340,8 @@ def map_command(
     rule_option: Annotated[list[str] | None, typer.Option(help="As for check.")] = None,
 ) -> None:
     """Draw the network with every finding on it: a self-contained HTML page or an SVG."""
-    from xodrlint.check import CheckRequest
-    from xodrlint.mapview.command import MapRequest, run_map
+    from xodrlint.cli.check import CheckRequest
+    from xodrlint.cli.map import MapRequest, run_map
 
     lint = CheckRequest(
         paths=(path,),
@@ -370,7 +369,7 @@ def config_command(
     ] = "text",
 ) -> None:
     """Show the effective configuration and where each value comes from."""
-    from xodrlint.run import show_config
+    from xodrlint.cli.config import show_config
 
     raise typer.Exit(show_config(tuple(paths or ["."]), config, output_format))
 
@@ -382,7 +381,7 @@ def rules_command(
     ] = "text",
 ) -> None:
     """List every rule: code, name, severity and ASAM rule UID."""
-    from xodrlint.run import print_rules
+    from xodrlint.cli.rules import print_rules
 
     raise typer.Exit(print_rules(output_format))
 
@@ -390,7 +389,7 @@ def rules_command(
 @app.command()
 def explain(code: Annotated[str, typer.Argument(help="A rule code, name or UID.")]) -> None:
     """Show a rule's documentation."""
-    from xodrlint.run import explain_rule
+    from xodrlint.cli.rules import explain_rule
 
     raise typer.Exit(explain_rule(code))
 
@@ -398,7 +397,7 @@ def explain(code: Annotated[str, typer.Argument(help="A rule code, name or UID."
 @schemas_app.command("list")
 def schemas_list() -> None:
     """Show which schema each OpenDRIVE version is validated with."""
-    from xodrlint.run import list_schemas
+    from xodrlint.cli.schemas import list_schemas
 
     raise typer.Exit(list_schemas())
 
@@ -408,7 +407,7 @@ def schemas_add(
     source: Annotated[Path, typer.Argument(help="An ASAM schema download: a folder or a zip.")],
 ) -> None:
     """Copy official schema sets into the user data folder."""
-    from xodrlint.run import add_schemas
+    from xodrlint.cli.schemas import add_schemas
 
     raise typer.Exit(add_schemas(source))
 
@@ -421,73 +420,6 @@ def schemas_fetch(
     ] = None,
 ) -> None:
     """Download ASAM's schemas (1.1 to 1.8.0) from the asam-qc-opendrive wheel on PyPI."""
-    from xodrlint.run import fetch_schemas
+    from xodrlint.cli.schemas import fetch_schemas
 
     raise typer.Exit(fetch_schemas(wheel))
-
-
-#: Set to "0" to let the interpreter tear down normally (profilers, coverage, leak checks).
-FAST_EXIT_ENV: Final = "XODRLINT_FAST_EXIT"
-
-
-def _leave(code: object) -> NoReturn:
-    """Exit without tearing the interpreter down: freeing a large map's tree and every
-    module costs a pre-commit run tens of milliseconds and serves no one. Everything the
-    run writes is flushed first; output files were already written and renamed."""
-    status = code if isinstance(code, int) else (0 if code is None else 1)
-    if not isinstance(code, int | None):
-        print(code, file=sys.stderr)
-    for stream in (sys.stdout, sys.stderr):
-        try:
-            stream.flush()
-        except (OSError, ValueError):  # a closed pipe: nothing more can be said there
-            status = status or 1
-    os._exit(status)
-
-
-def _invoked_alone(argv: list[str]) -> typer.Typer | None:
-    """The command ``argv`` invokes, as an app of its own, or ``None`` (no command, a
-    group such as ``schemas``, or an option first). Typer builds the click object of
-    every command before it parses the line: a pre-commit run of ``check`` on a small
-    map would pay 10 ms for the other commands' options."""
-    if not argv or argv[0].startswith("-"):
-        return None
-    for info in app.registered_commands:
-        callback = info.callback
-        name = info.name or (callback.__name__.replace("_", "-") if callback else None)
-        if name == argv[0]:
-            alone = typer.Typer(
-                add_completion=False,
-                pretty_exceptions_enable=False,
-                rich_markup_mode=None,
-                context_settings={"help_option_names": ["-h", "--help"]},
-            )
-            alone.registered_commands = [info]
-            return alone
-    return None
-
-
-def main() -> None:
-    """Console entry point: every failure ends in one line and a documented exit code."""
-    try:
-        alone = _invoked_alone(sys.argv[1:])
-        if alone is not None:
-            alone(args=sys.argv[2:], prog_name=f"xodrlint {sys.argv[1]}")
-        else:
-            app()
-    except KeyboardInterrupt:
-        typer.echo("xodrlint: interrupted", err=True)
-        sys.exit(130)
-    except SystemExit as done:
-        if os.environ.get(FAST_EXIT_ENV, "1") != "0":
-            _leave(done.code)
-        raise
-    except Exception as error:  # the last line of defence: exit 3, never a traceback
-        if os.environ.get("XODRLINT_DEBUG"):
-            raise
-        typer.echo(
-            f"xodrlint: internal error: {type(error).__name__}: {error} "
-            "(set XODRLINT_DEBUG=1 for the traceback, and please report it)",
-            err=True,
-        )
-        sys.exit(3)

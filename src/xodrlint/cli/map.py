@@ -19,7 +19,7 @@ from typing import Final, TextIO
 
 from xodrlint import __version__
 from xodrlint.api import default_registry, exit_code
-from xodrlint.check import CheckRequest, UsageError, prepare_linter, run_notes
+from xodrlint.cli.check import CheckRequest, UsageError, prepare_linter, run_notes
 from xodrlint.config import ConfigError
 from xodrlint.document import Document, load_bytes
 from xodrlint.engine import OptionError, SelectorError
@@ -34,7 +34,7 @@ from xodrlint.mapview.svg import PlacedFinding, frame_of
 from xodrlint.model import RailNetwork, build_network
 from xodrlint.output import error_line, write_output
 from xodrlint.registry import Registry
-from xodrlint.schemas import SchemaLoadError
+from xodrlint.validation.sets import SchemaLoadError
 
 #: Chord tolerance of the drawing in metres: finer than the 1 cm the coordinates keep
 #: would only add points.

@@ -1,0 +1,89 @@
+"""Stage 2, validation: validate a document against the XSD of its version.
+
+:class:`SchemaValidators` finds the schema set a document's declared version asks for
+(:mod:`~xodrlint.validation.sets`), compiles it once per process, and starts validation,
+in a forked child for a large document. OpenDRIVE 1.1 to 1.7 schemas are XSD 1.0 and run
+in libxml2 (:mod:`~xodrlint.validation.libxml2`); 1.8 and 1.9 are XSD 1.1
+(:mod:`~xodrlint.validation.xsd11`): libxml2 runs their XSD 1.0 form and the 1.1-only
+checks are added (with xmlschema, imported only then). Without an official schema, the
+built-in railroad schema checks each ``road/railroad`` and ``station`` subtree. Every
+validator error becomes one XS006 hit on the element it is about.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+from typing import NamedTuple, Protocol
+
+from xodrlint.document import Document
+from xodrlint.findings import Hit
+from xodrlint.validation.libxml2 import BuiltinRailroadValidator, Libxml2Validator
+from xodrlint.validation.sets import SchemaFinder, SchemaSet
+from xodrlint.workers import background
+from xodrlint.workers.background import Pending
+
+
+class SchemaCheck(NamedTuple):
+    schema: SchemaSet
+    hits: tuple[Hit, ...]
+
+
+class Validator(Protocol):
+    def hits(self, doc: Document) -> Iterator[Hit]: ...
+
+
+class SchemaValidators:
+    """Finds and compiles schemas once per process (per worker in batch mode)."""
+
+    def __init__(self, finder: SchemaFinder) -> None:
+        self._finder = finder
+        self._compiled: dict[tuple[Path, bool], Validator] = {}
+        self._found: dict[tuple[int, int], SchemaSet | None] = {}
+
+    def schema_for(self, doc: Document) -> SchemaSet | None:
+        if doc.effective is None:
+            return None
+        version = (doc.effective.major, doc.effective.minor)
+        if version not in self._found:  # finding walks schema folders: once per version
+            self._found[version] = self._finder.find(*version)
+        return self._found[version]
+
+    def start(self, doc: Document) -> Pending[SchemaCheck | None]:
+        """Begin validating ``doc``: a large document validates in a forked child while
+        the caller runs the rules; :meth:`Pending.result` gives the check."""
+        schema = self.schema_for(doc)
+        if schema is None or doc.tree is None:
+            return Pending(lambda: None)
+        validator = self._validator(schema)  # compiled here, so a child inherits it
+        root = doc.tree.getroot()
+        # A validator that splits its work (libxml2, then XSD 1.1 checks that need a slow
+        # xmlschema model) has the child run the first part only: the caller finishes the
+        # rest after its rules, so both cores stay busy.
+        split = getattr(validator, "stages", None)
+        first, finish = split(doc) if split else ((lambda: list(validator.hits(doc))), list)
+        hits = background.start_hits(first, root, len(doc.data))
+        return Pending(lambda: SchemaCheck(schema, tuple(finish(hits.result()))))
+
+    def prepare(self, doc: Document) -> None:
+        """Compile the schema ``doc`` asks for, without validating anything."""
+        schema = self.schema_for(doc)
+        if schema is not None:
+            self._validator(schema)
+
+    def _validator(self, schema: SchemaSet) -> Validator:
+        key = (schema.entry, schema.is_builtin)
+        validator = self._compiled.get(key)
+        if validator is None:
+            if schema.is_builtin:
+                validator = BuiltinRailroadValidator(schema)
+            elif schema.is_xsd11:
+                # libxml2 on the set's XSD 1.0 form plus the 1.1-only checks (or, when
+                # that cannot stand in for it, xmlschema's full XSD 1.1 validation)
+                from xodrlint.validation.xsd11.fast import xsd11_validator
+
+                validator = xsd11_validator(schema.entry, Libxml2Validator)
+            else:
+                validator = Libxml2Validator(schema.entry)
+            self._compiled[key] = validator
+        return validator

@@ -1,0 +1,240 @@
+"""The fast path for XSD 1.1 sets: libxml2 on the set's XSD 1.0 form, then the XSD
+1.1-only checks on just the elements they govern; full validation where it cannot stand in.
+
+:func:`xsd11_validator` chooses: the fast path when the set's form
+(:mod:`~xodrlint.validation.xsd11.form`) compiles in libxml2, else full validation
+(:class:`~xodrlint.validation.xsd11.full.Xsd11Validator`), which ``XODRLINT_XSD11=full``
+also asks for. :class:`FastXsd11Validator` runs one document:
+
+1. the plan (:mod:`~xodrlint.validation.xsd11.governing`): which elements select a type
+   alternative and which carry assertions;
+2. libxml2 on the form, with the alternatives' ``xsi:type`` marks
+   (:mod:`~xodrlint.validation.xsd11.alternatives`);
+3. the assertions (:mod:`~xodrlint.validation.xsd11.assertions`);
+4. what libxml2 skipped, validated again (:mod:`~xodrlint.validation.xsd11.recovery`).
+
+Anything the fast path cannot reproduce raises
+:class:`~xodrlint.validation.xsd11.NeedsFull`, and that document is validated in full.
+
+**Two stages for a forked child** (:meth:`FastXsd11Validator.stages`): the form's
+cache also records, from one strict xmlschema build of the set, where an element
+with type alternatives can stand. A document with no element there needs no type
+marks, so libxml2 runs alone in the child. The assertions need no libxml2 result:
+on a large document a second child loads the xmlschema model and checks them, while
+the caller runs its rules; the caller only merges, and loads the model itself only
+when libxml2 skipped a subtree. The model (built with the meta-schema check that
+strict build made once) is kept pickled beside the form, so runs load it instead of
+building it.
+
+Messages of libxml2's errors come from :mod:`~xodrlint.validation.messages` (as for
+OpenDRIVE 1.7), those of the 1.1-only checks and of the recovered subtrees from
+xmlschema's reasons (as in full validation); key, keyref, assertion, missing-attribute and
+enumeration messages read the same on both paths, others say the same in other words.
+Where xmlschema repeats itself (a bad number three times, every unknown child of one
+parent) libxml2 says it once.
+
+One difference is deliberate: xmlschema resolves a key's selector through declared types
+only, so it never checks keys and keyrefs below an element with type alternatives (every
+``junction/connection/@incomingRoad``, ``@connectingRoad``, ``@linkedRoad``, ...). libxml2
+follows the instance, as XSD 1.1 says; the fast path reports those broken references.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any, Final, Protocol
+
+from lxml import etree
+
+from xodrlint.document import Document
+from xodrlint.findings import Hit
+from xodrlint.validation.sets import SchemaLoadError
+from xodrlint.validation.xsd11 import NeedsFull
+from xodrlint.validation.xsd11.alternatives import holds_a_site, needs_xsd11_reading, xsi_types
+from xodrlint.validation.xsd11.assertions import assertion_errors
+from xodrlint.validation.xsd11.form import Xsd10Form, full_validator, xsd10_form
+from xodrlint.validation.xsd11.governing import Plan, SchemaModel
+from xodrlint.validation.xsd11.recovery import Subtrees, as_xsd11, root_identities, skipped_subtrees
+from xodrlint.workers import background
+
+#: ``full`` validates XSD 1.1 sets with xmlschema alone (slow; the reference behaviour).
+MODE_ENV: Final = "XODRLINT_XSD11"
+
+
+#: The second part of a split validation: the first part's hits in, the findings out.
+Finish = Callable[[list[Hit]], list[Hit]]
+
+
+#: What the assertion stage found: "checked" with its hits, "marks" (an element stands
+#: where a type alternative applies after all) or "full" (with the schema's reason, if
+#: the reason is the schema's), as values that cross a fork.
+_Stage = tuple[str, str, list[background.SentHit]]
+
+
+class HitSource(Protocol):
+    """A compiled libxml2 validator (:class:`~xodrlint.validation.libxml2.Libxml2Validator`)."""
+
+    def hits(self, doc: Document) -> Iterator[Hit]: ...
+
+
+def xsd11_validator(entry: Path, libxml2: Callable[[Path], HitSource]) -> HitSource:
+    """The validator for an XSD 1.1 set: the fast path unless it cannot stand in for
+    full validation (or ``XODRLINT_XSD11=full`` asks for full validation)."""
+    if os.environ.get(MODE_ENV, "").strip().lower() != "full":
+        with xsd10_form(entry) as form:
+            compiled = None
+            if form.entry is not None:
+                # XSD 1.1 accepts content models XSD 1.0 refuses (overlapping wildcards)
+                with contextlib.suppress(SchemaLoadError):
+                    compiled = libxml2(form.entry)
+        if compiled is not None:
+            return FastXsd11Validator(entry, compiled, form)
+    from xodrlint.validation.xsd11.full import Xsd11Validator  # xmlschema is slow to import
+
+    return Xsd11Validator(entry)
+
+
+class FastXsd11Validator:
+    """libxml2 on the XSD 1.0 form, then the XSD 1.1-only checks (see the module doc)."""
+
+    def __init__(self, entry: Path, compiled: HitSource, form: Xsd10Form) -> None:
+        self.entry = entry
+        self.form = form
+        self._libxml2 = compiled
+        self._full: Any = None
+        self._model: SchemaModel | None = None
+        self._unsupported: str | None = None
+
+    @property
+    def full(self) -> Any:
+        """The full XSD 1.1 validator (its model serves the 1.1-only checks)."""
+        if self._full is None:
+            self._full = full_validator(self.entry, self.form)
+        return self._full
+
+    def model(self) -> SchemaModel:
+        if self._model is None:
+            try:
+                self._model = SchemaModel(self.full.schema)
+            except NeedsFull as why:
+                self._unsupported = str(why)
+                raise
+        return self._model
+
+    def hits(self, doc: Document) -> Iterator[Hit]:
+        assert doc.tree is not None
+        try:
+            found = list(self._fast_hits(doc))
+        except NeedsFull:
+            found = list(self.full.hits(doc))
+        yield from found
+
+    def stages(self, doc: Document) -> tuple[Callable[[], list[Hit]], Finish]:
+        """The validation in two parts, for a caller that runs the first one elsewhere (a
+        forked child) while it does other work: libxml2 first, then the 1.1-only checks on
+        libxml2's hits. Split only when libxml2 needs no type marks, so the first part
+        needs no xmlschema model: no element of the document stands where the schema
+        allows type alternatives. Otherwise all of it is the first part.
+
+        The assertions of a split validation need no libxml2 result either: on a large
+        document they run in a forked child of their own, beside libxml2's child and the
+        rules, and the caller, needing no xmlschema model for a valid document, never
+        loads one."""
+        assert doc.tree is not None
+        root = doc.tree.getroot()
+        sites = self.form.alternative_sites
+        if sites is None or self._unsupported is not None or holds_a_site(doc, root, sites):
+            return (lambda: list(self.hits(doc))), list
+        checks = background.start(lambda: self._assertion_stage(doc, root), len(doc.data))
+        return (
+            (lambda: list(self._libxml2.hits(doc))),
+            lambda raw: self._finish(doc, raw, checks.result()),
+        )
+
+    def _assertion_stage(self, doc: Document, root: etree._Element) -> _Stage:
+        """The assertions' hits as values that cross a fork, or why they cannot stand."""
+        try:
+            model, plan = self._prepare(doc, root)
+            if plan.marks:
+                return ("marks", "", [])
+            hits = self._assertion_hits(root, model, plan)
+        except NeedsFull:
+            return ("full", self._unsupported or "", [])
+        return ("checked", "", background.send_hits(hits, root))
+
+    def _finish(self, doc: Document, raw: list[Hit], stage: _Stage) -> list[Hit]:
+        assert doc.tree is not None
+        root = doc.tree.getroot()
+        outcome, unsupported, sent = stage
+        try:
+            if outcome == "full":
+                if unsupported:  # the schema's, not this document's: skip the split next time
+                    self._unsupported = unsupported
+                raise NeedsFull(unsupported or "this document")
+            if outcome == "marks":  # the sites say this cannot be; if it is, use the marks
+                return list(self._fast_hits(doc))
+            return list(self._checked(root, raw, background.receive_hits(sent, root)))
+        except NeedsFull:
+            return list(self.full.hits(doc))
+
+    def _prepare(self, doc: Document, root: etree._Element) -> tuple[SchemaModel | None, Plan]:
+        if self._unsupported is not None:
+            raise NeedsFull(self._unsupported)
+        if needs_xsd11_reading(doc, root):
+            raise NeedsFull("the file uses xsi:type, xsi:nil or '+INF'")
+        needs_model = self.form.asserts or self.form.alternatives
+        model = self.model() if needs_model else None
+        plan = model.plan(root) if model is not None else Plan([], [])
+        return model, plan
+
+    def _fast_hits(self, doc: Document) -> Iterator[Hit]:
+        assert doc.tree is not None
+        root = doc.tree.getroot()
+        model, plan = self._prepare(doc, root)
+        with xsi_types(plan.marks):
+            raw = list(self._libxml2.hits(doc))
+        yield from self._checked(root, raw, self._assertion_hits(root, model, plan))
+
+    def _assertion_hits(
+        self, root: etree._Element, model: SchemaModel | None, plan: Plan
+    ) -> list[Hit]:
+        """A hit for each failing assertion of the elements ``plan`` found."""
+        if model is None:
+            return []
+        memo: dict[Any, Any] = {}
+        try:
+            errors = [
+                error
+                for element, xsd_type in plan.asserted
+                for error in assertion_errors(model, element, xsd_type, memo)
+            ]
+        except NeedsFull:
+            raise
+        except Exception as error:  # (a subtree libxml2 skipped may hold anything)
+            raise NeedsFull(f"an assertion could not be evaluated: {error}") from error
+        return list(self.full.error_hits(root, errors)) if errors else []
+
+    def _checked(self, root: etree._Element, raw: list[Hit], asserted: list[Hit]) -> Iterator[Hit]:
+        """libxml2's hits on the XSD 1.0 form, completed by the XSD 1.1-only checks: the
+        assertions' hits ``asserted``, and what libxml2 skipped."""
+        skipped = skipped_subtrees(raw, self.model)
+        inside = Subtrees(skipped)
+        identity = root_identities(self.full.schema, root, skipped) if skipped else None
+        for hit in raw:
+            if identity is not None and identity.recomputes(hit):
+                continue
+            moved = as_xsd11(hit)
+            # what libxml2 says inside a skipped subtree, xmlschema says again below
+            if not inside.holds(moved.element):
+                yield moved
+        yield from (hit for hit in asserted if not inside.holds(hit.element))
+        errors: list[Any] = []
+        for element, declaration in skipped:
+            errors.extend(declaration.iter_errors(element))
+        if identity is not None:
+            errors.extend(identity.errors(raw))
+        if errors:
+            yield from self.full.error_hits(root, errors)
