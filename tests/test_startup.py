@@ -12,7 +12,7 @@ from .test_cli import CLEAN
 
 #: Modules only some runs need: XSD 1.1 (OpenDRIVE 1.8 and later), terminal output,
 #: worker pools (-j on many files), forking large documents, plugin scans (cache misses),
-#: the other formats and commands.
+#: the other formats and commands, the table of old import paths.
 NOT_FOR_A_SMALL_JSON_RUN = (
     "xmlschema",
     "elementpath",
@@ -29,6 +29,9 @@ NOT_FOR_A_SMALL_JSON_RUN = (
     "xodrlint.mapview",
     "xodrlint.geometry",
     "xodrlint.cli.qc",
+    "xodrlint.cli.map",
+    "xodrlint.workers.forkpool",
+    "xodrlint._moved",
 )
 
 _RUN = """

@@ -6,14 +6,13 @@ The package took its pipeline layout before 0.2 (``validation/``, ``cli/``, ``wo
 out each name from where it lives now, with a ``DeprecationWarning`` naming that place,
 once per name. ``python -m`` on an old path runs the new module.
 
-A finder at the end of ``sys.meta_path`` serves the old paths, so the tree holds no
-stub files a newcomer would open first, and an import that finds a real module never
-asks it.
+A finder at the end of ``sys.meta_path`` (put there by ``xodrlint/__init__``) serves
+the old paths, so the tree holds no stub files a newcomer would open first; an import
+that finds a real module never asks it, and this module is read only when one is asked.
 """
 
 from __future__ import annotations
 
-import sys
 import types
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any, Final, cast
@@ -114,19 +113,13 @@ class _MovedLoader:
         return compile(source, f"<{fullname}, moved to {target}>", "exec")
 
 
-class _MovedFinder:
-    """Answers only for old paths, and only after every real finder has said no."""
-
-    _loader: Final = _MovedLoader()
-
-    def find_spec(self, fullname: str, path: object = None, target: object = None) -> Any:
-        if fullname not in MOVED:
-            return None
-        loader = cast("Loader", self._loader)  # duck-typed: importlib.abc costs an import
-        return _ModuleSpec(fullname, loader, is_package=fullname in _PACKAGES)
+_LOADER: Final = _MovedLoader()
 
 
-def install() -> None:
-    """Put the finder at the end of ``sys.meta_path`` (once per process)."""
-    if not any(isinstance(finder, _MovedFinder) for finder in sys.meta_path):
-        sys.meta_path.append(_MovedFinder())
+def find_spec(fullname: str) -> Any:
+    """The spec of an old path, or ``None`` (asked by the finder in ``xodrlint/__init__``
+    only after every real finder has said no)."""
+    if fullname not in MOVED:
+        return None
+    loader = cast("Loader", _LOADER)  # duck-typed: importlib.abc costs an import
+    return _ModuleSpec(fullname, loader, is_package=fullname in _PACKAGES)

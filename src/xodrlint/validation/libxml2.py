@@ -21,7 +21,6 @@ from xodrlint.validation.source import XS, read_schema_source
 #: Railroad content appeared in OpenDRIVE 1.4.
 FIRST_RAILROAD_MINOR: Final = 4
 
-
 #: libxml2's error log counts lines in 16 bits: later lines all read as this one.
 LIBXML2_LAST_LINE: Final = 65535
 

@@ -22,7 +22,6 @@ from xodrlint.document import Document
 
 XSI: Final = "http://www.w3.org/2001/XMLSchema-instance"
 
-
 XSI_TYPE: Final = f"{{{XSI}}}type"
 
 

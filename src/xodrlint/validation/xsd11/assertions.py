@@ -2,9 +2,9 @@
 
 Each assertion's compiled XPath 2.0 token is evaluated with a context built as xmlschema
 builds it (``XsdAssert.__call__``). An assertion that sees only named children and
-attributes runs on a pruned copy of its element, and equal copies share one result: a
-map's thousands of equal ``geometry`` records cost one evaluation. An assertion that
-might look past its element is refused, and the set is validated in full.
+attributes runs on a pruned copy of its element, and elements whose pruned copies are
+equal share one evaluation. An assertion that might look past its element is refused,
+and the set is validated in full.
 """
 
 from __future__ import annotations
@@ -38,7 +38,6 @@ _UNBOUNDED_XPATH: Final = frozenset(
         "collection",
     }
 )
-
 
 #: Axes that only lead to ancestors: a pruned copy keeps every ancestor of what it keeps.
 _UPWARD_AXES: Final = frozenset({"parent", "ancestor", "ancestor-or-self", ".."})
@@ -92,23 +91,18 @@ class Unprunable(Exception):
 # those that need no argument. Anything else keeps the assertion on the whole element.
 _EXISTENCE_FUNCTIONS: Final = frozenset({"count", "exists", "empty", "not", "boolean"})
 
-
 _ATOMIZING_FUNCTIONS: Final = frozenset(
     {"distinct-values", "sum", "min", "max", "avg", "data", "number", "string"}
 )
 
-
 _CONSTANT_FUNCTIONS: Final = frozenset({"true", "false"})
 
-
 _NAME_FUNCTIONS: Final = frozenset({"name", "local-name"})
-
 
 _ATOMIZING_OPERATORS: Final = frozenset(
     {"=", "!=", "<", ">", "<=", ">=", "eq", "ne", "lt", "gt", "le", "ge"}
     | {"+", "-", "div", "idiv", "mod"}
 )
-
 
 _LITERALS: Final = frozenset({"(string)", "(integer)", "(decimal)", "(float)", "$"})
 

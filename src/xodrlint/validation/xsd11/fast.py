@@ -63,10 +63,8 @@ from xodrlint.workers import background
 #: ``full`` validates XSD 1.1 sets with xmlschema alone (slow; the reference behaviour).
 MODE_ENV: Final = "XODRLINT_XSD11"
 
-
 #: The second part of a split validation: the first part's hits in, the findings out.
 Finish = Callable[[list[Hit]], list[Hit]]
-
 
 #: What the assertion stage found: "checked" with its hits, "marks" (an element stands
 #: where a type alternative applies after all) or "full" (with the schema's reason, if

@@ -23,7 +23,6 @@ from xodrlint.validation.xsd11.governing import SchemaModel
 #: libxml2 kinds folded onto xmlschema's: what the XS006 rule and the engine tell apart.
 _UNEXPECTED: Final = CHILD_KINDS - {"missing_child"}
 
-
 _IDENTITY_KINDS: Final = frozenset({"keyref", "duplicate", "key_field"})
 
 
