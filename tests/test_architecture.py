@@ -4,6 +4,8 @@ paths of the flat layout still lead to the same objects."""
 
 from __future__ import annotations
 
+import ast
+import importlib
 import re
 import subprocess
 import sys
@@ -11,12 +13,18 @@ import tomllib
 import warnings
 from collections.abc import Iterable, Mapping
 from pathlib import Path
+from unittest import mock
 
 import pytest
 
-from xodrlint import _moved
+import xodrlint
+from xodrlint import MOVED_MODULES, _moved
+from xodrlint.validation import libxml2, validators
+from xodrlint.validation.libxml2 import Libxml2Validator
+from xodrlint.validation.sets import SchemaFinder
 
 from .conftest import REPO
+from .old_layout import OLD_PUBLIC_NAMES
 
 PACKAGE = REPO / "src" / "xodrlint"
 ARCHITECTURE = REPO / "docs" / "architecture.md"
@@ -34,25 +42,44 @@ def package_modules(root: Path = PACKAGE) -> list[str]:
     return names
 
 
-def contract_modules(config: Mapping[str, object]) -> set[str]:
-    """The modules the import-linter contracts of ``config`` govern: each layer, each
-    forbidden contract's sources (a package stands for everything below it)."""
+def layered_modules(config: Mapping[str, object]) -> set[str]:
+    """The modules the layers contracts of ``config`` place (a package stands for
+    everything below it)."""
     named: set[str] = set()
     contracts = config.get("contracts", [])
     assert isinstance(contracts, list)
     for contract in contracts:
         for layer in contract.get("layers", []):
             named.update(part.strip() for part in re.split(r"[|:]", layer) if part.strip())
-        named.update(contract.get("source_modules", []))
     return named
 
 
-def outside_every_contract(modules: Iterable[str], governed: set[str]) -> list[str]:
+def contract_modules(config: Mapping[str, object]) -> set[str]:
+    """Every module a contract of ``config`` names: layers and forbidden sources."""
+    contracts = config.get("contracts", [])
+    assert isinstance(contracts, list)
+    sources = {name for contract in contracts for name in contract.get("source_modules", [])}
+    return layered_modules(config) | sources
+
+
+def outside_every_layer(
+    modules: Iterable[str], layered: set[str], root: Path = PACKAGE
+) -> list[str]:
+    """Modules no layer places. A package whose ``__init__`` imports nothing needs no
+    place of its own (``workers/``: its modules sit in different layers)."""
     return [
         module
         for module in modules
-        if not any(module == name or module.startswith(name + ".") for name in governed)
+        if not any(module == name or module.startswith(name + ".") for name in layered)
+        and not _imports_nothing(root.parent / module.replace(".", "/") / "__init__.py")
     ]
+
+
+def _imports_nothing(init: Path) -> bool:
+    if not init.is_file():
+        return False
+    tree = ast.parse(init.read_text("utf-8"))
+    return not any(isinstance(node, ast.Import | ast.ImportFrom) for node in ast.walk(tree))
 
 
 def importlinter_config() -> dict[str, object]:
@@ -64,25 +91,35 @@ def importlinter_config() -> dict[str, object]:
 
 def test_every_module_sits_in_an_import_contract() -> None:
     config = importlinter_config()
-    outside = outside_every_contract(package_modules(), contract_modules(config))
-    assert outside == [], f"add these to a contract in pyproject.toml: {outside}"
+    outside = outside_every_layer(package_modules(), layered_modules(config))
+    assert outside == [], f"give these a layer in pyproject.toml: {outside}"
 
 
 def test_a_module_outside_the_contracts_is_found(tmp_path: Path) -> None:
     # the check above would pass vacuously if it read no layers or walked no modules
     root = tmp_path / "xodrlint"
     (root / "cli").mkdir(parents=True)
-    for name in ("__init__.py", "cli/__init__.py", "cli/app.py", "engine.py", "stray.py"):
+    (root / "workers").mkdir()
+    (root / "formatters").mkdir()
+    for name in ("__init__.py", "cli/__init__.py", "cli/commands.py", "engine.py", "stray.py"):
         (root / name).write_text("")
+    (root / "workers" / "__init__.py").write_text('"""Processes."""\n')
+    (root / "workers" / "pool.py").write_text("")
+    (root / "formatters" / "__init__.py").write_text("from xodrlint import engine\n")
     config = {
         "contracts": [
             {"layers": ["xodrlint.cli", "xodrlint.engine | xodrlint.other"]},
-            {"source_modules": ["xodrlint.formatters"]},
+            # a forbidden contract's source is no place in the layers
+            {"source_modules": ["xodrlint.formatters", "xodrlint.workers"]},
         ]
     }
     modules = package_modules(root)
-    assert modules == ["xodrlint.cli", "xodrlint.cli.app", "xodrlint.engine", "xodrlint.stray"]
-    assert outside_every_contract(modules, contract_modules(config)) == ["xodrlint.stray"]
+    assert "xodrlint.cli.commands" in modules and "xodrlint.workers" in modules
+    assert outside_every_layer(modules, layered_modules(config), root) == [
+        "xodrlint.formatters",
+        "xodrlint.stray",
+        "xodrlint.workers.pool",
+    ]
 
 
 def test_every_package_of_the_contracts_exists() -> None:
@@ -124,60 +161,143 @@ def test_architecture_doc_names_every_package_and_top_level_module() -> None:
 
 @pytest.fixture(autouse=True)
 def _fresh_old_paths(monkeypatch: pytest.MonkeyPatch) -> None:
-    # a stand-in keeps each name it handed out (and warns once): every test starts anew
-    for old in _moved.MOVED:
+    # a stand-in warns once per name: every test starts with new ones
+    for old in MOVED_MODULES:
         monkeypatch.delitem(sys.modules, old, raising=False)
+    monkeypatch.setattr("xodrlint.cli._OLD_NAMES_WARNED", set())
 
 
-def test_no_old_path_is_shadowed_by_a_real_module() -> None:
-    # the finder answers only when no real module exists: a file at an old path wins
-    for old in _moved.MOVED:
+def test_no_old_path_is_a_real_module() -> None:
+    for old in MOVED_MODULES:
         relative = Path(*old.split(".")[1:])
         assert not (PACKAGE / relative.with_suffix(".py")).exists(), old
         assert not (PACKAGE / relative / "__init__.py").exists(), old
 
 
-@pytest.mark.parametrize("old", sorted(_moved.MOVED))
-def test_an_old_path_hands_out_the_new_objects_with_a_warning(old: str) -> None:
-    import importlib
+def test_a_folder_left_at_an_old_path_does_not_hide_it(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # a checkout keeps schemas/__pycache__/ after switching branches: without the finder
+    # first in line, that folder imports as an empty namespace package
+    (tmp_path / "schemas" / "__pycache__").mkdir(parents=True)
+    monkeypatch.setattr(xodrlint, "__path__", [*xodrlint.__path__, str(tmp_path)])
+    stand_in = importlib.import_module("xodrlint.schemas")
 
+    assert isinstance(stand_in, _moved.MovedModule)
+    with pytest.warns(DeprecationWarning):
+        assert stand_in.SchemaFinder is SchemaFinder
+
+
+def test_the_old_modules_are_the_ones_the_flat_layout_had() -> None:
+    assert set(MOVED_MODULES) | {"xodrlint.cli", "xodrlint.model"} == set(OLD_PUBLIC_NAMES)
+
+
+@pytest.mark.parametrize("old", sorted(OLD_PUBLIC_NAMES))
+def test_every_public_name_of_an_old_module_still_imports(old: str) -> None:
     module = importlib.import_module(old)
-    targets = [importlib.import_module(target) for target in _moved.MOVED[old]]
-    public = sorted(
-        {
-            name
-            for target in targets
-            for name, value in vars(target).items()
-            if not name.startswith("_") and getattr(value, "__module__", None) == target.__name__
-        }
-    )
-    assert public, f"{old}: its new modules define nothing public"
-    for name in public:
-        home = next(t for t in targets if name in vars(t) and _defined_in(t, name))
-        with pytest.warns(DeprecationWarning, match=re.escape(f"moved to {home.__name__}.{name}")):
+    for name in OLD_PUBLIC_NAMES[old]:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
             value = getattr(module, name)
-        assert value is getattr(home, name)
+        home = _named_home(caught, old, name)
+        if home is None:  # still where it was (xodrlint.model, xodrlint.cli's app)
+            continue
+        assert getattr(importlib.import_module(home), name) is value, (old, name, home)
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # once per name: a second read is quiet
-        getattr(module, public[0])
+        for name in OLD_PUBLIC_NAMES[old]:
+            getattr(module, name)
 
 
-def _defined_in(module: object, name: str) -> bool:
-    return getattr(getattr(module, name), "__module__", None) == getattr(module, "__name__", "")
+def _named_home(caught: list[warnings.WarningMessage], old: str, name: str) -> str | None:
+    texts = [str(w.message) for w in caught if issubclass(w.category, DeprecationWarning)]
+    if not texts:
+        return None
+    (text,) = texts
+    found = re.fullmatch(rf"{re.escape(old)}\.{name} moved to ([\w.]+)\.{name}; .*", text)
+    assert found, text
+    return found.group(1)
 
 
-def test_old_from_imports_and_submodules_work() -> None:
+@pytest.mark.parametrize(
+    ("old", "name", "home"),
+    [
+        ("xodrlint.schema", "Libxml2Validator", "xodrlint.validation.libxml2"),
+        ("xodrlint.schema", "SchemaValidators", "xodrlint.validation.validators"),
+        ("xodrlint.run", "show_config", "xodrlint.cli.config"),
+        ("xodrlint.xsd_messages", "CHILD_KINDS", "xodrlint.validation.messages"),
+        ("xodrlint.profile", "lane_width", "xodrlint.model.lane_profiles"),
+        ("xodrlint.cli", "FAST_EXIT_ENV", "xodrlint.cli.entry"),
+        ("xodrlint.cli", "FailOn", "xodrlint.cli.commands"),
+    ],
+)
+def test_the_warning_names_where_a_name_is_defined(old: str, name: str, home: str) -> None:
+    module = importlib.import_module(old)
+    with pytest.warns(DeprecationWarning) as caught:
+        getattr(module, name)
+    assert _named_home(list(caught), old, name) in (home, "xodrlint.findings")
+
+
+def test_a_name_imported_from_elsewhere_is_named_where_it_is_defined() -> None:
+    import xodrlint.run  # type: ignore[import-not-found]
+
+    with pytest.warns(
+        DeprecationWarning, match=r"resolve_settings moved to xodrlint\.cli\.check\."
+    ):
+        xodrlint.run.resolve_settings  # noqa: B018
+    import xodrlint.profile  # type: ignore[import-not-found]
+
+    with pytest.warns(DeprecationWarning, match=r"profile\.Road moved to xodrlint\.model\.Road;"):
+        xodrlint.profile.Road  # noqa: B018
+
+
+def test_old_from_imports_star_imports_and_submodules_work() -> None:
     with pytest.warns(DeprecationWarning, match=r"xodrlint\.validation\.store\.install_wheel"):
         from xodrlint.schemas.store import install_wheel  # type: ignore[import-not-found]
     from xodrlint.validation.store import install_wheel as moved
 
     assert install_wheel is moved
+    namespace: dict[str, object] = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        exec("from xodrlint.batch import *", namespace)
+    assert namespace["lint_tasks"] is importlib.import_module("xodrlint.workers.batch").lint_tasks
     with pytest.raises(ImportError):
-        import xodrlint.schemas.nothing  # type: ignore[import-not-found]
+        importlib.import_module("xodrlint.schemas.nothing")
     with pytest.raises(AttributeError, match="has no attribute 'nothing'"):
-        import xodrlint.batch  # type: ignore[import-not-found]
+        xodrlint.batch.nothing  # noqa: B018
+    # an old module is reachable as an attribute of the package, as it was once imported
+    assert isinstance(xodrlint.forkpool, _moved.MovedModule)
 
-        _ = xodrlint.batch.nothing
+
+def test_patching_through_an_old_path_reaches_the_code_that_reads_it(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from xodrlint.workers import batch
+
+    original = batch.default_jobs
+    old = importlib.import_module("xodrlint.batch")
+    with pytest.warns(DeprecationWarning):
+        monkeypatch.setattr(old, "default_jobs", lambda: 42)
+    assert batch.default_jobs() == 42
+    monkeypatch.undo()
+    assert batch.default_jobs is original
+    with mock.patch("xodrlint.schema.Libxml2Validator") as patched:
+        # the old module's one binding is read in both new modules
+        assert vars(validators)["Libxml2Validator"] is patched
+        assert libxml2.Libxml2Validator is patched
+    assert vars(validators)["Libxml2Validator"] is libxml2.Libxml2Validator is Libxml2Validator
+
+
+def test_the_old_cli_names_and_the_console_entry() -> None:
+    import xodrlint.cli
+    from xodrlint.cli.entry import main
+
+    assert xodrlint.cli.main is main
+    with pytest.warns(DeprecationWarning, match=r"xodrlint\.cli\.explain moved to"):
+        assert callable(xodrlint.cli.explain)
+    with pytest.raises(AttributeError):
+        xodrlint.cli.nothing  # noqa: B018
 
 
 def test_python_m_on_an_old_path_runs_the_new_module(tmp_path: Path) -> None:

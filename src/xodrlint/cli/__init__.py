@@ -1,15 +1,50 @@
 """The command layer: the ``xodrlint`` command line, a thin client of the engine and the
 Python API.
 
-- :mod:`~xodrlint.cli.app`: the typer app, every command declared (options and help);
+- :mod:`~xodrlint.cli.commands`: the typer app, every command declared (options, help);
 - :mod:`~xodrlint.cli.entry`: the console entry point (exit codes, fast exit);
 - one module per command, doing its work: :mod:`~xodrlint.cli.check`,
   :mod:`~xodrlint.cli.map`, :mod:`~xodrlint.cli.qc`, :mod:`~xodrlint.cli.rules`
   (``rules`` and ``explain``), :mod:`~xodrlint.cli.schemas`, :mod:`~xodrlint.cli.config`;
 - :mod:`~xodrlint.cli.docgen`: the developers' command that writes ``docs/rules``.
+
+``app`` and ``main`` are loaded on first use, so a module that imports one command's
+work (``xodrlint.cli.check``) does not load typer and every declaration.
 """
 
-from xodrlint.cli.app import app, schemas_app
-from xodrlint.cli.entry import main
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from xodrlint.cli.commands import app, schemas_app
+    from xodrlint.cli.entry import main
 
 __all__ = ["app", "main", "schemas_app"]
+
+#: Names of the old ``xodrlint/cli.py`` still handed out here, until 0.2, and where they
+#: live now. ``check`` is not among them: ``xodrlint.cli.check`` is now the module that
+#: runs the check.
+_OLD_COMMAND_NAMES = (
+    *("FailOn", "qc_command", "map_command", "config_command", "rules_command", "explain"),
+    *("schemas_list", "schemas_add", "schemas_fetch"),
+)
+OLD_NAMES = {
+    **dict.fromkeys(_OLD_COMMAND_NAMES, "xodrlint.cli.commands"),
+    "FAST_EXIT_ENV": "xodrlint.cli.entry",
+}
+_OLD_NAMES_WARNED: set[str] = set()
+
+
+def __getattr__(name: str) -> Any:
+    if name in ("app", "schemas_app"):
+        from xodrlint.cli import commands
+
+        return getattr(commands, name)
+    if name == "main":
+        from xodrlint.cli.entry import main
+
+        return main
+    if name in OLD_NAMES:
+        from xodrlint._moved import moved_name
+
+        return moved_name(__name__, name, (OLD_NAMES[name],), _OLD_NAMES_WARNED)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

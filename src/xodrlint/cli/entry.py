@@ -2,14 +2,14 @@
 line and a documented exit code, only the invoked command is built, and the process
 leaves without tearing the interpreter down."""
 
-# No ``from __future__ import annotations``, as in :mod:`xodrlint.cli.app`.
+# No ``from __future__ import annotations``, as in :mod:`xodrlint.cli.commands`.
 import os
 import sys
 from typing import Final, NoReturn
 
 import typer
 
-from xodrlint.cli.app import app
+from xodrlint.cli.commands import app
 
 #: Set to "0" to let the interpreter tear down normally (profilers, coverage, leak checks).
 FAST_EXIT_ENV: Final = "XODRLINT_FAST_EXIT"

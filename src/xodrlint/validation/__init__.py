@@ -6,7 +6,7 @@
   (``--schema``, ``XODRLINT_SCHEMA_PATH``, the user data folder, the built-in schema);
 - :mod:`~xodrlint.validation.source`: a set's files, read once;
 - :mod:`~xodrlint.validation.store`: ``xodrlint schemas add|fetch`` fill the user folder;
-- :mod:`~xodrlint.validation.libxml2`: XSD 1.0 sets (OpenDRIVE 1.4 to 1.7) in libxml2;
+- :mod:`~xodrlint.validation.libxml2`: XSD 1.0 sets (OpenDRIVE 1.1 to 1.7) in libxml2;
 - :mod:`~xodrlint.validation.xsd11`: XSD 1.1 sets (OpenDRIVE 1.8 and 1.9);
 - :mod:`~xodrlint.validation.messages`: validator messages a map engineer understands;
 - ``builtin/``: our railroad schema, for files whose official set is not installed.
