@@ -1,10 +1,12 @@
 """Deterministic OpenDRIVE railroad networks of a requested size, clean by construction.
 
-Every block holds a crossover (two parallel tracks, a side track between them, two
-partner switches), a single switch with its own siding, a station with a platform on the
-first track, and ordinary roads with driving lanes, the way city maps mix both. All
-geometry is exact (lines), every rail lane is centred on its reference line, every id is
-unique: xodrlint gives no finding and the official schema of the version accepts it.
+Every block holds a crossover (two parallel tracks 4.5 m apart, a side track between them
+that leaves one and joins the other, two partner switches), a single switch with its own
+siding, a station with a platform on the first track, and ordinary roads with driving
+lanes, the way city maps mix both. The tracks are railways that can exist: side tracks
+leave their switch points along reverse curves (lines and arcs, so every position is
+exact), every rail lane is centred on its reference line, every id is unique: xodrlint
+gives no finding and the official schema of the version accepts it.
 
     python benchmarks/generate.py --size-mb 20 --version 1.7 -o network-20mb-1.7.xodr
     python benchmarks/generate.py --files 200 --size-kb 20 -o small/   # a batch folder
@@ -13,6 +15,7 @@ unique: xodrlint gives no finding and the official schema of the version accepts
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from collections.abc import Iterator
 from pathlib import Path
@@ -20,6 +23,11 @@ from typing import Final
 
 TRACK_LENGTH: Final = 200.0
 STREET_LANES: Final = 3  # per side
+#: Heading change of each arc of a reverse curve (8.6 degrees: a 1:6.6 turnout).
+TURN: Final = 0.15
+#: Distance between the two tracks of a crossover, and of a siding from its main track.
+TRACK_SPACING: Final = 4.5
+SIDING_SPACING: Final = 3.0
 
 HEADER: Final = """<?xml version="1.0" encoding="UTF-8"?>
 <OpenDRIVE>
@@ -28,8 +36,7 @@ HEADER: Final = """<?xml version="1.0" encoding="UTF-8"?>
 
 TRACK: Final = """  <road name="track {id}" length="{length}" id="{id}" junction="-1">
     <planView>
-      <geometry s="0" x="{x}" y="{y}" hdg="0" length="{length}"><line/></geometry>
-    </planView>
+{geometry}    </planView>
     <lanes>
       <laneOffset s="0" a="0.75" b="0" c="0" d="0"/>
       <laneSection s="0">
@@ -46,7 +53,7 @@ TRACK: Final = """  <road name="track {id}" length="{length}" id="{id}" junction
 
 SWITCH: Final = """
       <switch name="W{id}" id="{id}" position="dynamic">
-        <mainTrack id="{main}" s="{s}" dir="+"/>
+        <mainTrack id="{main}" s="{s}" dir="{main_dir}"/>
         <sideTrack id="{side}" s="{side_s}" dir="{side_dir}"/>{partner}
       </switch>"""
 
@@ -96,52 +103,103 @@ LEFT_LANES: Final = _street_lanes(+1)
 RIGHT_LANES: Final = _street_lanes(-1)
 
 
+def _number(value: float) -> str:
+    text = f"{value:.9f}".rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+def _record(s: float, x: float, y: float, hdg: float, length: float, curve: str) -> str:
+    return (
+        f'      <geometry s="{_number(s)}" x="{_number(x)}" y="{_number(y)}" '
+        f'hdg="{_number(hdg)}" length="{_number(length)}">{curve}</geometry>\n'
+    )
+
+
+def _line(x: float, y: float, length: float) -> str:
+    return _record(0.0, x, y, 0.0, length, "<line/>")
+
+
+def _reverse_curves(x: float, y: float, offset: float, length: float) -> tuple[str, float]:
+    """A track that leaves (x, y) heading 0, moves ``offset`` sideways along two arcs of
+    opposite curvature (each turning :data:`TURN`), then runs straight to ``length``
+    (at least the two arcs). Returns its records and how far along x the arcs reach."""
+    curvature = 2 * (1 - math.cos(TURN)) / abs(offset)
+    arc = TURN / curvature
+    sign = 1.0 if offset > 0 else -1.0
+    middle_x = x + math.sin(TURN) / curvature
+    middle_y = y + sign * (1 - math.cos(TURN)) / curvature
+    records = _record(0.0, x, y, 0.0, arc, f'<arc curvature="{_number(sign * curvature)}"/>')
+    records += _record(
+        arc,
+        middle_x,
+        middle_y,
+        sign * TURN,
+        arc,
+        f'<arc curvature="{_number(-sign * curvature)}"/>',
+    )
+    along = 2 * math.sin(TURN) / curvature
+    if length > 2 * arc:
+        records += _record(2 * arc, x + along, y + offset, 0.0, length - 2 * arc, "<line/>")
+    return records, along
+
+
 def _block(index: int) -> tuple[str, str]:
     """One block's roads and its station."""
     base = index * 10
     x, y = (index % 100) * 500.0, (index // 100) * 50.0
-    main_a, side, main_b, single, siding = (str(base + k) for k in range(1, 6))
+    main_a, side, main_b, single, siding_id = (str(base + k) for k in range(1, 6))
     sw = [f"{base + k}" for k in range(1, 4)]
+    crossover, reach = _reverse_curves(x + 20, y, TRACK_SPACING, 0.0)
+    crossover_length = 2 * TURN / (2 * (1 - math.cos(TURN)) / TRACK_SPACING)
+    siding, _ = _reverse_curves(x + 150, y, -SIDING_SPACING, TRACK_LENGTH / 2)
     roads = [
         TRACK.format(
             id=main_a,
             length=TRACK_LENGTH,
-            x=x,
-            y=y,
+            geometry=_line(x, y, TRACK_LENGTH),
             railroad="\n    <railroad>"
             + SWITCH.format(
                 id=sw[0],
                 main=main_a,
                 s=20,
+                main_dir="+",
                 side=side,
                 side_s=0,
                 side_dir="+",
                 partner=PARTNER.format(id=sw[1]),
             )
             + SWITCH.format(
-                id=sw[2], main=main_a, s=150, side=siding, side_s=0, side_dir="+", partner=""
+                id=sw[2],
+                main=main_a,
+                s=150,
+                main_dir="+",
+                side=siding_id,
+                side_s=0,
+                side_dir="+",
+                partner="",
             )
             + "\n    </railroad>",
         ),
-        TRACK.format(id=side, length=TRACK_LENGTH, x=x + 20, y=y + 2, railroad=""),
+        TRACK.format(id=side, length=_number(crossover_length), geometry=crossover, railroad=""),
         TRACK.format(
             id=main_b,
             length=TRACK_LENGTH,
-            x=x,
-            y=y + 4.5,
+            geometry=_line(x, y + TRACK_SPACING, TRACK_LENGTH),
             railroad="\n    <railroad>"
+            # a train on this track running against its s enters the crossover at its end
             + SWITCH.format(
                 id=sw[1],
                 main=main_b,
-                s=50,
+                s=_number(20 + reach),
+                main_dir="-",
                 side=side,
-                side_s=TRACK_LENGTH,
+                side_s=_number(crossover_length),
                 side_dir="-",
                 partner=PARTNER.format(id=sw[0]),
             )
             + "\n    </railroad>",
         ),
-        TRACK.format(id=siding, length=TRACK_LENGTH / 2, x=x + 150, y=y - 3, railroad=""),
+        TRACK.format(id=siding_id, length=TRACK_LENGTH / 2, geometry=siding, railroad=""),
     ]
     for street in range(6, 10):
         roads.append(

@@ -1,13 +1,18 @@
 """Synthetic railroad networks for tests: clean by construction, any size.
 
 Each unit is a crossover: two parallel tracks, a side track between them, two partner
-switches, and a station with one platform on the first track.
+switches, and a station with one platform on the first track. The side track is a
+balloon loop: it leaves the first track at its switch heading the same way, turns on a
+semicircle and ends at the second track's switch heading back, so both switches fit
+together (SW011, SW012).
 """
 
 from __future__ import annotations
 
+import math
+
 RAIL_ROAD = """  <road name="t{id}" length="{length}" id="{id}" junction="-1">
-    <planView><geometry s="0" x="0" y="{y}" hdg="0" length="{length}"><line/></geometry></planView>
+    <planView>{geometry}</planView>
     <lanes>
       <laneOffset s="0" a="{offset}" b="0" c="0" d="0"/>
       <laneSection s="0">
@@ -23,15 +28,36 @@ def rail_road(
     ident: str,
     *,
     length: float = 200,
+    x: float = 0,
     y: float = 0,
+    hdg: float = 0,
     width: float = 1.5,
     offset: float | None = None,
     railroad: str = "",
+    geometry: str | None = None,
 ) -> str:
-    """A track road with one rail lane, centred on its reference line unless ``offset``."""
+    """A track road with one rail lane, centred on its reference line unless ``offset``;
+    a straight line from (``x``, ``y``) unless ``geometry`` gives its records."""
     centre = width / 2 if offset is None else offset
+    records = geometry or (
+        f'<geometry s="0" x="{x}" y="{y}" hdg="{hdg}" length="{length}"><line/></geometry>'
+    )
     return RAIL_ROAD.format(
-        id=ident, length=length, y=y, offset=centre, width=width, railroad=railroad
+        id=ident, length=length, geometry=records, offset=centre, width=width, railroad=railroad
+    )
+
+
+def balloon_loop(x: float, y: float, width: float, length: float) -> str:
+    """Records of a track from (``x``, ``y``) heading 0 that turns on a semicircle of
+    diameter ``width`` and ends at (``x``, ``y + width``) heading pi, ``length`` long."""
+    turn = math.pi * width / 2
+    leg = (length - turn) / 2
+    return (
+        f'<geometry s="0" x="{x}" y="{y}" hdg="0" length="{leg}"><line/></geometry>'
+        f'<geometry s="{leg}" x="{x + leg}" y="{y}" hdg="0" length="{turn}">'
+        f'<arc curvature="{2 / width}"/></geometry>'
+        f'<geometry s="{leg + turn}" x="{x + leg}" y="{y + width}" hdg="{math.pi}" '
+        f'length="{leg}"><line/></geometry>'
     )
 
 
@@ -66,7 +92,7 @@ def network(units: int, minor: int = 7) -> bytes:
                 ),
             )
         )
-        roads.append(rail_road(side, y=unit * 20 + 5))
+        roads.append(rail_road(side, geometry=balloon_loop(50, unit * 20, 10, 200)))
         roads.append(
             rail_road(
                 second,

@@ -48,9 +48,9 @@ BROKEN_LINES = [
     (25, "XS006"),
     (30, "XS006"),
     (32, "SW006"),
-    (47, "RL003"),
-    (56, "ST004"),
-    (56, "XS006"),
+    (53, "RL003"),
+    (62, "ST004"),
+    (62, "XS006"),
 ]
 FINGERPRINT_KEY = "xodrlint/v1"
 SRCROOT = "%SRCROOT%"

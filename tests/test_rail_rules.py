@@ -25,7 +25,10 @@ def _file(*roads: str, tail: str = "") -> bytes:
 
 
 def _road(ident: str, **options: Any) -> str:
-    return rail_road(ident, length=100, y=int(ident) * 10, **options)
+    # road 1 runs along the x axis; the others leave it at its s=30, where _switch puts
+    # the switches, 5.7 degrees apart: side tracks meet their switches (SW011, SW012)
+    start = {"x": 0, "y": 0, "hdg": 0} if ident == "1" else {"x": 30, "y": 0, "hdg": 0.1}
+    return rail_road(ident, length=100, **{**start, **options})
 
 
 def _switch(ident: str, main: str, side: str, partner: str | None = None, s: float = 0) -> str:
@@ -92,7 +95,7 @@ def test_rules_json_lists_options_and_deferrals() -> None:
     assert [o["name"] for o in entries["RL003"]["options"]] == ["rail-min-width"]
     assert entries["RL003"]["options"][0]["default"] == 1.435
     assert entries["PT002"]["defers_to"] == ["PT001", "PT005", "SW002", "PT004"]
-    assert len([code for code in entries if code[:2] in ("SW", "PT", "ST", "RL")]) == 32
+    assert len([code for code in entries if code[:2] in ("SW", "PT", "ST", "RL")]) == 34
 
 
 def test_explain_shows_options() -> None:

@@ -12,7 +12,8 @@ from .test_cli import CLEAN
 
 #: Modules only some runs need: XSD 1.1 (OpenDRIVE 1.8 and later), terminal output,
 #: worker pools (-j on many files), forking large documents, plugin scans (cache misses),
-#: the other formats and commands, the table of old import paths.
+#: the other formats and commands, the table of old import paths, drawing the plan view
+#: (the track-geometry rules evaluate it at switch points and joints only).
 NOT_FOR_A_SMALL_JSON_RUN = (
     "xmlschema",
     "elementpath",
@@ -27,7 +28,7 @@ NOT_FOR_A_SMALL_JSON_RUN = (
     "xodrlint.formatters.sarif",
     "xodrlint.formatters.xqar",
     "xodrlint.mapview",
-    "xodrlint.geometry",
+    "xodrlint.geometry.sampling",
     "xodrlint.cli.qc",
     "xodrlint.cli.map",
     "xodrlint.workers.forkpool",

@@ -11,22 +11,13 @@ from lxml import etree
 from xodrlint.geometry import Pose, ReferenceLine, reference_line
 from xodrlint.geometry.sampling import drawable
 from xodrlint.model import Lane, LaneSection, RailNetwork, Road, Segment, number
-from xodrlint.model.lane_profiles import Piecewise, centre_terms, lane_offset
+from xodrlint.model.lane_profiles import Piecewise, centre_terms, lane_offset, lateral_value
 
 Point = tuple[float, float]
 Terms = list[tuple[float, Piecewise]]
 
 #: How far a platform bar is drawn beside its track's centre line, in metres.
 PLATFORM_DISTANCE: Final = 3.0
-
-
-def lateral_value(terms: Terms, s: float) -> float:
-    """``Σ weight·function(s)``; a piece not yet started is taken from its first piece."""
-    total = 0.0
-    for weight, fn in terms:
-        piece = fn.piece_at(s) or (fn.pieces[0] if fn.pieces else None)
-        total += weight * piece.at(s) if piece is not None else 0.0
-    return total
 
 
 class Placer:

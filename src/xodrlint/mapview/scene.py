@@ -9,9 +9,9 @@ from functools import partial
 
 from xodrlint.document import Document
 from xodrlint.geometry import polylines
-from xodrlint.mapview.place import Placer, Point, lateral_value
+from xodrlint.mapview.place import Placer, Point
 from xodrlint.model import RailNetwork, Road
-from xodrlint.model.lane_profiles import centre_terms
+from xodrlint.model.lane_profiles import centre_terms, lateral_value
 
 Runs = list[list[Point]]
 

@@ -173,6 +173,17 @@ def _quadratic_roots(a: float, b: float, c: float) -> tuple[float, ...]:
     return (q / a, c / q)
 
 
+def lateral_value(terms: Sequence[tuple[float, Piecewise]], s: float) -> float:
+    """``Σ weight·function(s)`` of :func:`centre_terms`: the lateral position at ``s``. A
+    function not yet started at ``s`` (a ``width`` whose first ``sOffset`` lies beyond)
+    is taken from its first piece."""
+    total = 0.0
+    for weight, function in terms:
+        piece = function.piece_at(s) or (function.pieces[0] if function.pieces else None)
+        total += weight * piece.at(s) if piece is not None else 0.0
+    return total
+
+
 def lane_offset(road: Road) -> Piecewise | None:
     """The road's ``laneOffset`` (0 where none is given); ``None`` if an entry is unreadable."""
     if not road.lane_offsets_complete:

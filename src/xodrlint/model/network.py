@@ -14,7 +14,7 @@ import math
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import Final, NamedTuple, TypeVar
+from typing import Final, NamedTuple, TypeVar, cast
 
 from lxml import etree
 
@@ -125,7 +125,7 @@ class Road:
     ``has_rail_lane`` is known up front (one XPath over the whole tree finds those roads).
     """
 
-    __slots__ = ("_lanes", "element", "has_rail_lane", "id", "length")
+    __slots__ = ("_lanes", "_links", "element", "has_rail_lane", "id", "length")
 
     def __init__(
         self, element: etree._Element, id: str | None, length: float | None, has_rail_lane: bool
@@ -135,6 +135,7 @@ class Road:
         self.length = length
         self.has_rail_lane = has_rail_lane
         self._lanes: RoadLanes | None = None
+        self._links: tuple[RoadLink, ...] | None = None
 
     def __repr__(self) -> str:
         return f"Road(id={self.id!r}, length={self.length!r})"
@@ -144,6 +145,13 @@ class Road:
         if self._lanes is None:
             self._lanes = _read_lanes(self.element)
         return self._lanes
+
+    @property
+    def links(self) -> tuple["RoadLink", ...]:
+        """The road's ``link/predecessor`` and ``link/successor``, in document order."""
+        if self._links is None:
+            self._links = _read_links(self.element)
+        return self._links
 
     @property
     def lane_sections(self) -> tuple[LaneSection, ...]:
@@ -174,6 +182,16 @@ class Road:
             following = sections[index + 1].s if index + 1 < len(sections) else self.length
             if section.s is not None and following is not None and following >= section.s:
                 yield section, section.s, following
+
+
+class RoadLink(NamedTuple):
+    """A road's ``link/predecessor`` or ``link/successor``."""
+
+    element: etree._Element
+    kind: str  # "predecessor" or "successor"
+    element_type: str | None
+    element_id: str | None
+    contact_point: str | None
 
 
 class TrackRef(NamedTuple):
@@ -227,6 +245,7 @@ class Station(NamedTuple):
 
 
 _T = TypeVar("_T")
+_V = TypeVar("_V")
 
 
 def _first_by_id(items: Sequence[_T], key: str) -> Mapping[str, _T]:
@@ -262,6 +281,9 @@ class RailNetwork:
     switches: tuple[Switch, ...] = ()
     stations: tuple[Station, ...] = ()
     problems: Mapping[str, Sequence[Hit]] = field(default_factory=dict)
+    derived: dict[type, object] = field(default_factory=dict, repr=False, compare=False)
+    """What rules compute from the model once per file and share (the plan-view geometry
+    of the roads they touch), keyed by the type of the value; see :meth:`shared`."""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "road_by_id", _first_by_id(self.roads, "id"))
@@ -283,6 +305,15 @@ class RailNetwork:
     """Switches in document order, by the road their ``sideTrack`` names."""
     switches_by_main_track: Mapping[str, tuple[Switch, ...]] = field(init=False, repr=False)
     """Switches in document order, by the road their ``mainTrack`` names."""
+
+    def shared(self, kind: Callable[["RailNetwork"], _V]) -> _V:
+        """The one ``kind(self)`` of this file: made on first use, then shared by every
+        rule that asks (``kind`` is a class taking the network)."""
+        key = cast(type, kind)
+        found = self.derived.get(key)
+        if found is None:
+            found = self.derived[key] = kind(self)
+        return cast(_V, found)
 
     @property
     def rail_roads(self) -> Iterable[Road]:
@@ -335,6 +366,20 @@ def _read_lanes(road: etree._Element) -> RoadLanes:
             else:
                 offsets.append(cubic)
     return RoadLanes(tuple(sections), tuple(offsets), complete)
+
+
+def _read_links(road: etree._Element) -> tuple[RoadLink, ...]:
+    return tuple(
+        RoadLink(
+            end,
+            str(end.tag),
+            end.get("elementType"),
+            end.get("elementId"),
+            end.get("contactPoint"),
+        )
+        for link in road.iterchildren("link")
+        for end in link.iterchildren("predecessor", "successor")
+    )
 
 
 def _read_lane_section(element: etree._Element) -> LaneSection:

@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Iterable, Iterator
 from typing import Final, TypeVar
 
 from xodrlint.model.lane_profiles import S_TOLERANCE
 
-__all__ = ["S_TOLERANCE", "later_duplicates", "metres", "quoted", "within"]
+__all__ = ["S_TOLERANCE", "degrees", "later_duplicates", "metres", "point", "quoted", "within"]
 
 _T = TypeVar("_T")
 
@@ -22,6 +23,22 @@ def quoted(value: object) -> str:
 def metres(value: float) -> str:
     """A length or s-coordinate for messages: up to six decimals, no trailing zeros."""
     text = f"{value:.6f}".rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+def point(x: float, y: float) -> str:
+    """A plan-view position for messages, to the millimetre."""
+    return f"({_millimetres(x)}, {_millimetres(y)})"
+
+
+def _millimetres(value: float) -> str:
+    text = f"{value:.3f}".rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+def degrees(radians: float) -> str:
+    """An angle for messages, in degrees to a hundredth."""
+    text = f"{math.degrees(radians):.2f}".rstrip("0").rstrip(".")
     return "0" if text in ("-0", "") else text
 
 

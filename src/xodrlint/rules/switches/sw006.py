@@ -46,10 +46,9 @@ from collections.abc import Iterator
 
 from xodrlint.findings import Hit, Severity
 from xodrlint.model import RailNetwork
-from xodrlint.model.lane_profiles import S_TOLERANCE
 from xodrlint.rules import rule
-from xodrlint.rules._shared import metres, quoted
-from xodrlint.rules.switches._tracks import named_road
+from xodrlint.rules._shared import quoted
+from xodrlint.rules.switches._tracks import named_road, side_track_problem
 
 
 @rule(
@@ -63,23 +62,6 @@ def side_track_not_at_end(network: RailNetwork) -> Iterator[Hit]:
     for switch in network.switches:
         side = switch.side_track
         road = named_road(network, side) if side is not None else None
-        if side is None or road is None or road.length is None or side.s is None:
-            continue
-        at_start = abs(side.s) <= S_TOLERANCE
-        at_end = abs(side.s - road.length) <= S_TOLERANCE
-        where = f"side track of switch {quoted(switch.id)}"
-        if not at_start and not at_end:
-            yield Hit(
-                side.element,
-                f"{where} is at s={metres(side.s)} of road '{road.id}', not at its start (0) "
-                f"or end ({metres(road.length)})",
-            )
-        elif at_start != at_end and side.dir in ("+", "-"):
-            expected = "+" if at_start else "-"
-            if side.dir != expected:
-                end = "start" if at_start else "end"
-                yield Hit(
-                    side.element,
-                    f"{where} is at the {end} of road '{road.id}' but points '{side.dir}', "
-                    f"off the road (expected '{expected}')",
-                )
+        problem = side_track_problem(road, side) if side is not None and road is not None else None
+        if side is not None and problem is not None:
+            yield Hit(side.element, f"side track of switch {quoted(switch.id)} {problem}")

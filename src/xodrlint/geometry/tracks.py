@@ -1,0 +1,105 @@
+"""Track points and directions of travel: where a railway's tracks are, for the rules that
+check that switches and linked tracks physically fit together (SW011, SW012, TR001,
+TR002).
+
+- The **track point** of a road at s is the centre line of the road's rail or tram lane
+  at s when the lane section there holds exactly one such lane (t = ``laneOffset(s)``
+  plus the lane's inner edge and half its width, the widths as the cubics they are);
+  otherwise the reference line (t = 0).
+- The **direction of travel** for ``dir`` is the reference line's heading at s for
+  ``+``, that heading plus pi for ``-``. Angles are compared on the circle.
+
+Geometry is evaluated only where a rule asks (a switch point, a road's end): a binary
+search for the record and one evaluation, never a walk along a road. A road's plan view
+is read the first time it is asked for, once per file (:class:`TrackGeometry` is shared
+through :meth:`~xodrlint.model.RailNetwork.shared`). A road whose plan view cannot be
+evaluated (no geometry, an unreadable record, numbers that overflow) has no track
+points: the rules stay silent on it.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Final, NamedTuple
+
+from xodrlint.geometry.planview import ReferenceLine, reference_line
+from xodrlint.model import LaneSection, RailNetwork, Road
+from xodrlint.model.lane_profiles import S_TOLERANCE, centre_terms, lateral_value
+
+#: The directions of travel a ``dir`` attribute can give.
+DIRECTIONS: Final = ("+", "-")
+
+
+class TrackPoint(NamedTuple):
+    """A point of a track, and the reference line's heading there (rad)."""
+
+    x: float
+    y: float
+    heading: float
+
+    def distance_to(self, other: TrackPoint) -> float:
+        return math.hypot(self.x - other.x, self.y - other.y)
+
+    def direction(self, dir: str) -> float:
+        """The direction of travel along the road for ``dir`` (``+`` or ``-``)."""
+        return self.heading + (math.pi if dir == "-" else 0.0)
+
+
+def angle_between(first: float, second: float) -> float:
+    """The smallest difference of two directions on the circle, in radians (0 to pi)."""
+    difference = math.remainder(first - second, math.tau)
+    return abs(difference)
+
+
+class TrackGeometry:
+    """The track points of one file's roads, each road's plan view read once."""
+
+    def __init__(self, network: RailNetwork) -> None:
+        self._network = network
+        self._lines: dict[int, ReferenceLine | None] = {}
+
+    def point(self, road: Road, s: float) -> TrackPoint | None:
+        """The track point of ``road`` at ``s``; ``None`` where it cannot be evaluated."""
+        line = self.reference_line(road)
+        pose = line.pose(s) if line is not None and math.isfinite(s) else None
+        lateral = _lateral(road, s) if pose is not None else None
+        if pose is None or lateral is None:
+            return None
+        x, y = pose.offset(lateral)
+        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(pose.hdg)):
+            return None
+        return TrackPoint(x, y, pose.hdg)
+
+    def reference_line(self, road: Road) -> ReferenceLine | None:
+        """The road's reference line when every record of it can be evaluated."""
+        key = id(road.element)
+        if key not in self._lines:
+            line = reference_line(road.element)
+            usable = line.records and not line.problems
+            self._lines[key] = line if usable else None
+        return self._lines[key]
+
+
+def _lateral(road: Road, s: float) -> float | None:
+    """The track's t at ``s``: the single rail/tram lane's centre, else the reference line.
+    ``None`` when that lane's centre cannot be computed (a lane described by ``border``,
+    an unreadable ``laneOffset`` or ``width``)."""
+    found = _section_at(road, s)
+    if found is None:
+        return 0.0
+    section, start = found
+    rails = section.rail_lanes
+    if len(rails) != 1:
+        return 0.0
+    terms = centre_terms(road, section, start, rails[0])
+    value = lateral_value(terms, s) if terms is not None else None
+    return value if value is not None and math.isfinite(value) else None
+
+
+def _section_at(road: Road, s: float) -> tuple[LaneSection, float] | None:
+    """The lane section that holds ``s``: at a boundary, the one that starts there."""
+    found = None
+    for section, start, _ in road.section_ranges():
+        if start <= s + S_TOLERANCE:
+            found = (section, start)
+    return found

@@ -1,0 +1,95 @@
+"""SW011 switch-tracks-apart: a switch's main track and side track do not meet at the switch.
+
+## What it does
+Reports a `sideTrack` whose track point at `sideTrack/@s` is more than the tolerance
+(default 0.10 m) away from the main track's track point at `mainTrack/@s`. A track point
+is the centre line of the road's rail or tram lane when the lane section there holds
+exactly one such lane (`laneOffset` plus the lane's inner edge and half its width, the
+widths as the cubic polynomials they are), and the reference line otherwise. The message
+names both points.
+
+## Why is this bad?
+ASAM OpenDRIVE defines `mainTrack/@s` as the s-coordinate of the switch, "the point where
+main track and side track meet", and `sideTrack/@s` as the s-coordinate of the switch on
+the side track. Both must therefore be the same place on the ground. A side track that
+starts metres away from its switch describes a turnout no train can take, and a
+simulator that routes a train through it teleports the train.
+
+## Example
+```xml
+<switch name="W1" id="101" position="dynamic">
+  <!-- the switch point is (30, 0); road 2 starts 0.15 m beside it -->
+  <mainTrack id="1" s="30" dir="+"/>
+  <sideTrack id="2" s="0" dir="+"/> <!-- expect: SW011 -->
+</switch>
+```
+
+Use instead:
+```xml
+<switch name="W1" id="101" position="dynamic">
+  <!-- the switch point is (30, 0); road 2 starts there -->
+  <mainTrack id="1" s="30" dir="+"/>
+  <sideTrack id="2" s="0" dir="+"/>
+</switch>
+```
+
+## Options
+- `switch-tolerance` (metres, default 0.1): the largest distance allowed between the two
+  track points. Configuration: `switch-tolerance = 0.1` in `[tool.xodrlint]`; command
+  line: `--rule-option switch-tolerance=0.1`.
+
+## Related rules
+SW003, SW004, SW005 and SW006 report a switch whose tracks name the wrong road, no road,
+a position off the road or a side track that does not begin or end at the switch; SW011
+stays silent on such a switch. SW012 judges the directions only where SW011 finds the
+tracks meeting. A road whose plan view cannot be evaluated is left alone (XS006 reports
+bad values).
+
+## References
+- ASAM OpenDRIVE 1.7, section 15.3.1 "Switches" (`mainTrack/@s`, `sideTrack/@s`); rule UID
+  `xodrlint:xodr:1.4.0:road.railroad.switch.tracks_meet`
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import Final
+
+from xodrlint.findings import Hit, RuleOption, Severity
+from xodrlint.model import RailNetwork
+from xodrlint.rules import Settings, rule
+from xodrlint.rules._shared import S_TOLERANCE, metres, point, quoted
+from xodrlint.rules.switches._geometry import switch_points
+
+TOLERANCE: Final = RuleOption(
+    name="switch-tolerance",
+    default=0.1,
+    description="Largest distance between a switch's main-track and side-track points",
+)
+
+
+@rule(
+    code="SW011",
+    name="switch-tracks-apart",
+    uid="xodrlint:xodr:1.4.0:road.railroad.switch.tracks_meet",
+    severity=Severity.ERROR,
+    options=(TOLERANCE,),
+)
+def switch_tracks_apart(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
+    tolerance = settings[TOLERANCE.name]
+    for switch in network.switches:
+        points = switch_points(network, switch)
+        if points is None or switch.main_track is None or switch.side_track is None:
+            continue
+        main, side = points
+        distance = main.distance_to(side)
+        if distance > tolerance + S_TOLERANCE:
+            # SW006 holds: the side track's s is its road's start or end
+            begins = "starts" if abs(switch.side_track.s or 0.0) <= S_TOLERANCE else "ends"
+            yield Hit(
+                switch.side_track.element,
+                f"side track of switch {quoted(switch.id)} {begins} {metres(round(distance, 4))} m "
+                f"from the switch point on road '{switch.main_track.road_id}' at "
+                f"s={metres(switch.main_track.s or 0.0)} "
+                f"({point(main.x, main.y)} and {point(side.x, side.y)})",
+            )

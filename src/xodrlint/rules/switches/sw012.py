@@ -1,0 +1,114 @@
+"""SW012 switch-direction-mismatch: a switch sends trains onto its side track in another direction.
+
+## What it does
+Reports a `switch` where the direction of travel on the main track (`mainTrack/@dir` at
+`mainTrack/@s`) and on the side track after entering it (`sideTrack/@dir` at
+`sideTrack/@s`) differ by more than the tolerance (default 15 degrees). The direction of
+travel is the road's reference-line heading at s for `+`, and that heading plus pi for
+`-`; the two are compared as the smallest angle between them.
+
+## Why is this bad?
+ASAM OpenDRIVE defines `mainTrack/@dir` as the direction on the main track "for entering
+the side track via the switch" and `sideTrack/@dir` as the direction on the side track
+"for after entering it via the switch". A train keeps its heading through a turnout: the
+side track leaves the main track at a small angle. Directions that differ by more say
+that one of the `dir` values, or one of the roads, points the wrong way: a train routed
+through the switch would reverse or turn on the spot.
+
+## Example
+```xml
+<switch name="W1" id="101" position="dynamic"> <!-- expect: SW012 -->
+  <!-- road 1 heads 0 rad at s=30; road 2 leaves the switch point at 20 degrees -->
+  <mainTrack id="1" s="30" dir="+"/>
+  <sideTrack id="2" s="0" dir="+"/>
+</switch>
+```
+
+Use instead:
+```xml
+<switch name="W1" id="101" position="dynamic">
+  <!-- road 1 heads 0 rad at s=30; road 2 leaves the switch point at 6 degrees -->
+  <mainTrack id="1" s="30" dir="+"/>
+  <sideTrack id="2" s="0" dir="+"/>
+</switch>
+```
+
+## Options
+- `switch-angle` (degrees, default 15): the largest angle allowed between the two
+  directions of travel. Configuration: `switch-angle = 15` in `[tool.xodrlint]`;
+  command line: `--rule-option switch-angle=15`.
+- `switch-tolerance` (metres, default 0.1): shared with SW011; SW012 judges only switches
+  whose track points are at most this far apart.
+
+## Related rules
+SW003, SW004, SW005 and SW006 report a switch whose tracks cannot be judged; SW012 stays
+silent on it. SW011 reports tracks that do not meet at the switch; their directions are
+taken at two different places and say nothing, so SW012 stays silent there too. A road
+whose plan view cannot be evaluated is left alone.
+
+## References
+- ASAM OpenDRIVE 1.7, section 15.3.1 "Switches" (`mainTrack/@dir`, `sideTrack/@dir`); rule
+  UID `xodrlint:xodr:1.4.0:road.railroad.switch.directions_agree`
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from typing import Final
+
+from xodrlint.findings import Hit, RuleOption, Severity
+from xodrlint.model import RailNetwork
+from xodrlint.rules import Settings, rule
+from xodrlint.rules._shared import S_TOLERANCE, degrees, metres, quoted
+from xodrlint.rules.switches._geometry import switch_points
+from xodrlint.rules.switches.sw011 import TOLERANCE
+
+ANGLE: Final = RuleOption(
+    name="switch-angle",
+    default=15.0,
+    description="Largest angle between the directions of travel on a switch's two tracks",
+    unit="degrees",
+)
+#: Angles equal within this are equal (a heading computed from a cubic carries rounding).
+_ANGLE_SLACK: Final = 1e-9
+
+
+@rule(
+    code="SW012",
+    name="switch-direction-mismatch",
+    uid="xodrlint:xodr:1.4.0:road.railroad.switch.directions_agree",
+    severity=Severity.ERROR,
+    options=(ANGLE, TOLERANCE),
+)
+def switch_direction_mismatch(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
+    from xodrlint.geometry.tracks import angle_between
+
+    limit = math.radians(settings[ANGLE.name])
+    for switch in network.switches:
+        main, side = switch.main_track, switch.side_track
+        points = switch_points(network, switch)
+        if points is None or main is None or side is None:
+            continue
+        if main.dir not in ("+", "-") or side.dir not in ("+", "-"):
+            continue
+        main_point, side_point = points
+        if main_point.distance_to(side_point) > settings[TOLERANCE.name] + S_TOLERANCE:
+            continue  # SW011's defect: directions at two places say nothing
+        entering = main_point.direction(main.dir)
+        leaving = side_point.direction(side.dir)
+        angle = angle_between(entering, leaving)
+        if angle > limit + _ANGLE_SLACK:
+            yield Hit(
+                switch.element,
+                f"switch {quoted(switch.id)} turns trains by {degrees(angle)} degrees: main "
+                f"track '{main.road_id}' at s={metres(main.s or 0.0)} runs "
+                f"{degrees(_circle(entering))} degrees ('{main.dir}'), side track "
+                f"'{side.road_id}' at s={metres(side.s or 0.0)} runs "
+                f"{degrees(_circle(leaving))} degrees ('{side.dir}')",
+            )
+
+
+def _circle(angle: float) -> float:
+    """The direction as an angle in [0, 2 pi)."""
+    return angle % math.tau

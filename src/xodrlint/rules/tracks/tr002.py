@@ -1,0 +1,88 @@
+"""TR002 track-link-kink: two linked tracks meet at an angle a train cannot take.
+
+## What it does
+Reports a road link between two roads with a rail or tram lane (the joints TR001 judges)
+where the direction of travel leaving the first road and the direction entering the
+second differ by more than the tolerance (default 5 degrees). Leaving through a road's
+end, a train runs along the reference-line heading there; leaving through its start, the
+opposite way; entering is the same in reverse. Angles are compared on the circle.
+
+## Why is this bad?
+This is an inference from the standard's road linkage: a link joins two roads end to end
+so that traffic passes from one to the other. Rails cannot bend at a point: two tracks
+that meet at an angle form a kink that derails a train, and where the angle is near 180
+degrees the link or a contact point points the wrong way.
+
+## Example
+```xml
+<link>
+  <!-- road 1 ends heading 0 rad; road 2 starts heading 0.1 rad (5.73 degrees) -->
+  <successor elementType="road" elementId="2" contactPoint="start"/> <!-- expect: TR002 -->
+</link>
+```
+
+Use instead:
+```xml
+<link>
+  <!-- road 1 ends heading 0 rad; road 2 starts heading 0.05 rad (2.86 degrees) -->
+  <successor elementType="road" elementId="2" contactPoint="start"/>
+</link>
+```
+
+## Options
+- `link-angle` (degrees, default 5): the largest angle allowed between the directions of
+  travel at a joint. Configuration: `link-angle = 5` in `[tool.xodrlint]`; command line:
+  `--rule-option link-angle=5`.
+
+## Related rules
+TR001 reports a gap at the same joint; TR002 judges the directions whatever the gap, so a
+joint can have both findings. Links to junctions and to roads without a rail or tram lane
+are not judged.
+
+## References
+- ASAM OpenDRIVE 1.7, chapter "Roads", section "Road linkage", and chapter "Railroads"; rule
+  UID `xodrlint:xodr:1.4.0:road.railroad.track.link_kink`
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from typing import Final
+
+from xodrlint.findings import Hit, RuleOption, Severity
+from xodrlint.model import RailNetwork
+from xodrlint.rules import Settings, rule
+from xodrlint.rules._shared import degrees
+from xodrlint.rules.tracks._joints import joints
+
+ANGLE: Final = RuleOption(
+    name="link-angle",
+    default=5.0,
+    description="Largest angle between the directions of travel at a joint of two rail roads",
+    unit="degrees",
+)
+_ANGLE_SLACK: Final = 1e-9
+
+
+@rule(
+    code="TR002",
+    name="track-link-kink",
+    uid="xodrlint:xodr:1.4.0:road.railroad.track.link_kink",
+    severity=Severity.WARNING,
+    options=(ANGLE,),
+)
+def track_link_kink(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
+    from xodrlint.geometry.tracks import angle_between
+
+    limit = math.radians(settings[ANGLE.name])
+    for joint in joints(network):
+        leaving, entering = joint.leaving, joint.entering
+        angle = angle_between(leaving, entering)
+        if angle > limit + _ANGLE_SLACK:
+            yield Hit(
+                joint.link.element,
+                f"{joint.describe()} at an angle of {degrees(angle)} degrees: a train leaves "
+                f"at {degrees(leaving % math.tau)} degrees and enters at "
+                f"{degrees(entering % math.tau)} degrees",
+            )
