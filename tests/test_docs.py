@@ -87,7 +87,7 @@ def test_docs_rules_are_generated() -> None:
 # Column "Basis" = I in the catalogue: rules that rest on our reading of the standard.
 INFERRED = {
     "XS005", "SW005", "SW006", "SW009", "PT002", "PT003", "PT005", "PT006",
-    "ST004", "ST005", "ST006", "ST011",
+    "ST004", "ST005", "ST006", "ST011", "TR001", "TR002",
 }  # fmt: skip
 
 

@@ -22,6 +22,9 @@ _NODES: Final = 8
 #: Panels one integral may use at most: enough for the largest turn a record may have
 #: (:data:`MAX_TURN`); a bound on the work any one point costs.
 _MAX_PANELS: Final = 256
+#: Coordinates beyond a million kilometres belong to no map (and would overflow when
+#: written in centimetres): such points are neither drawn nor judged.
+MAX_COORDINATE: Final = 1e9
 #: The most a record may turn, in radians (about ten full circles): no track or road does,
 #: and a record that would is a data error, listed rather than drawn.
 MAX_TURN: Final = 64.0

@@ -13,7 +13,7 @@ import math
 from collections.abc import Callable
 from typing import Final
 
-from xodrlint.geometry.curves import Record
+from xodrlint.geometry.curves import MAX_COORDINATE, Record
 from xodrlint.geometry.planview import ReferenceLine
 
 Point = tuple[float, float]
@@ -23,9 +23,6 @@ _START_TURN: Final = 0.5
 #: Samples one record may have at most: a curve that still strays from its chords after
 #: that many (a poly3 with absurd coefficients) must not hold the drawing up.
 _MAX_SAMPLES: Final = 4096
-#: Coordinates beyond a million kilometres belong to no map (and would overflow when
-#: written in centimetres): such points are not drawn.
-MAX_COORDINATE: Final = 1e9
 
 
 def drawable(point: Point) -> bool:

@@ -13,8 +13,8 @@ Geometry is evaluated only where a rule asks (a switch point, a road's end): a b
 search for the record and one evaluation, never a walk along a road. A road's plan view
 is read the first time it is asked for, once per file (:class:`TrackGeometry` is shared
 through :meth:`~xodrlint.model.RailNetwork.shared`). A road whose plan view cannot be
-evaluated (no geometry, an unreadable record, numbers that overflow) has no track
-points: the rules stay silent on it.
+evaluated (no geometry, an unreadable or zero-length record, a start or heading no map
+holds, numbers that overflow) has no track points: the rules stay silent on it.
 """
 
 from __future__ import annotations
@@ -22,12 +22,16 @@ from __future__ import annotations
 import math
 from typing import Final, NamedTuple
 
+from xodrlint.geometry.curves import MAX_COORDINATE, Record
 from xodrlint.geometry.planview import ReferenceLine, reference_line
 from xodrlint.model import LaneSection, RailNetwork, Road
 from xodrlint.model.lane_profiles import S_TOLERANCE, centre_terms, lateral_value
 
 #: The directions of travel a ``dir`` attribute can give.
 DIRECTIONS: Final = ("+", "-")
+#: Headings beyond this many radians have lost their meaning to rounding (an ulp of 1e6
+#: is 1e-10 rad); a record heading so far is a data error, not a direction.
+MAX_HEADING: Final = 1e6
 
 
 class TrackPoint(NamedTuple):
@@ -66,7 +70,8 @@ class TrackGeometry:
         if pose is None or lateral is None:
             return None
         x, y = pose.offset(lateral)
-        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(pose.hdg)):
+        # also false for nan and inf: a point no map holds says nothing about a railway
+        if not (abs(x) < MAX_COORDINATE and abs(y) < MAX_COORDINATE and math.isfinite(pose.hdg)):
             return None
         return TrackPoint(x, y, pose.hdg)
 
@@ -75,9 +80,20 @@ class TrackGeometry:
         key = id(road.element)
         if key not in self._lines:
             line = reference_line(road.element)
-            usable = line.records and not line.problems
+            usable = line.records and not line.problems and all(map(_evaluable, line.records))
             self._lines[key] = line if usable else None
         return self._lines[key]
+
+
+def _evaluable(record: Record) -> bool:
+    """A record of positive length whose start is a place on a map and a direction: the
+    schema requires ``length > 0``; anything else is a value XS006 reports."""
+    return (
+        record.length > 0
+        and abs(record.x) < MAX_COORDINATE
+        and abs(record.y) < MAX_COORDINATE
+        and abs(record.hdg) < MAX_HEADING
+    )
 
 
 def _lateral(road: Road, s: float) -> float | None:
