@@ -268,6 +268,40 @@ def test_findings_are_placed_by_their_element(
     assert _placed(xpath) == expected
 
 
+@pytest.mark.parametrize(
+    ("case", "xpath", "expected"),
+    [
+        # the side track's point the SW011 message names: road 2 starts 0.15 m beside (30, 0)
+        (
+            "SW011/invalid_side_track_apart.xodr",
+            "/OpenDRIVE/road[@id='1']/railroad/switch[@id='101']/sideTrack",
+            (30.0, 0.15),
+        ),
+        # the rail lane's centre, not the reference line (0.75 m right of it)
+        (
+            "SW011/invalid_reference_line_at_switch_but_lane_beside.xodr",
+            "/OpenDRIVE/road[@id='1']/railroad/switch[@id='101']/sideTrack",
+            (30.0, -0.75),
+        ),
+        # a link at the end of its road it joins: road 1's end, where TR001's gap begins
+        (
+            "TR001/invalid_gap_between_tracks.xodr",
+            "/OpenDRIVE/road[@id='1']/link/successor",
+            (100.0, 0.0),
+        ),
+        (
+            "TR001/invalid_only_the_later_road_links.xodr",
+            "/OpenDRIVE/road[@id='2']/link/predecessor",
+            (100.0, 1.0),
+        ),
+    ],
+)
+def test_geometry_findings_are_placed_at_the_points_their_messages_name(
+    case: str, xpath: str, expected: tuple[float, float]
+) -> None:
+    assert _placed(xpath, REPO / "rules" / case) == expected
+
+
 def test_platform_bars_lie_on_their_side_of_the_track() -> None:
     text = BROKEN.read_text("utf-8").replace('side="up"', 'side="left"')
     html = _render(text)

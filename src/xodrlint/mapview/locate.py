@@ -1,6 +1,8 @@
 """Where a finding goes on the map: the element its XPath names, placed by what it is (a
 switch at its point, a segment at its middle, a lane or lane section at its start, a road
-at its middle), or else by its nearest ancestor that has a place."""
+link at the road end it joins, a road at its middle), or else by its nearest ancestor
+that has a place. Switch tracks and road links are placed at the track points the
+track-geometry rules name in their messages."""
 
 from __future__ import annotations
 
@@ -10,6 +12,7 @@ from lxml import etree
 
 from xodrlint.document import Document
 from xodrlint.findings import Finding
+from xodrlint.geometry.tracks import TrackGeometry
 from xodrlint.mapview.place import Placer, Point, geometry_start
 from xodrlint.model import RailNetwork, Road, Segment, Switch, number
 
@@ -20,6 +23,7 @@ class Locator:
     def __init__(self, doc: Document, network: RailNetwork, placer: Placer) -> None:
         self._doc = doc
         self._placer = placer
+        self._tracks = network.shared(TrackGeometry)
         self._switches: dict[etree._Element, Switch] = {sw.element: sw for sw in network.switches}
         self._segments: dict[etree._Element, Segment] = {
             segment.element: segment for segment in network.segments
@@ -34,6 +38,8 @@ class Locator:
             "lane": self._lane,
             "laneSection": self._lane_section,
             "geometry": geometry_start,
+            "predecessor": self._link,
+            "successor": self._link,
             "road": self._road,
         }
 
@@ -66,10 +72,27 @@ class Locator:
     def _switch(self, element: etree._Element) -> Point | None:
         switch = self._switches.get(element)
         track = switch.main_track if switch is not None else None
-        return self._placer.track_point(track.road_id, track.s) if track is not None else None
+        return self._track_point(track.road_id, track.s) if track is not None else None
 
     def _track(self, element: etree._Element) -> Point | None:
-        return self._placer.track_point(element.get("id"), number(element, "s"))
+        return self._track_point(element.get("id"), number(element, "s"))
+
+    def _link(self, element: etree._Element) -> Point | None:
+        """A road link at the end of its road it joins (TR001 and TR002 name that point)."""
+        link = element.getparent()
+        road = self._road_above(element) if link is not None and link.tag == "link" else None
+        if road is None:
+            return None
+        return self._track_point(road.id, 0.0 if element.tag == "predecessor" else road.length)
+
+    def _track_point(self, road_id: str | None, s: float | None) -> Point | None:
+        """The track point the geometry rules compute, else the map's own placement (a
+        road whose plan view they cannot evaluate may still be drawn in part)."""
+        road = self._placer.road(road_id)
+        point = self._tracks.point(road, s) if road is not None and s is not None else None
+        if point is not None:
+            return (point.x, point.y)
+        return self._placer.track_point(road_id, s)
 
     def _segment(self, element: etree._Element) -> Point | None:
         segment = self._segments.get(element)
