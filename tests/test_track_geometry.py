@@ -13,8 +13,9 @@ from xodrlint.api import lint_bytes
 from xodrlint.document import load_bytes
 from xodrlint.geometry.tracks import TrackGeometry, TrackPoint, angle_between
 from xodrlint.model import build_network
+from xodrlint.model.lane_profiles import centre_at, centre_terms, lateral_value
 
-from .conftest import CORPUS_RAIL, needs_shared
+from .conftest import CORPUS_RAIL, REPO, needs_shared
 
 scipy_special = pytest.importorskip("scipy.special", reason="scipy is a test dependency")
 scipy_integrate = pytest.importorskip("scipy.integrate")
@@ -28,6 +29,7 @@ AT = 1000.0
 OFFSET = (0.5, 1e-4, -1e-7, 1e-10)
 WIDTH = (1.5, 1e-5, 1e-8, -1e-11)
 MILLIMETRE = 1e-3
+CASES = REPO / "rules"
 
 
 def _cubic(coefficients: tuple[float, float, float, float], s: float) -> float:
@@ -250,3 +252,33 @@ def test_the_normal_case_of_the_hostile_ones_is_judged() -> None:
     data = _SWITCHED.format(**_NORMAL).encode()
     report = lint_bytes(data, "normal.xodr", select=["SW011", "SW012", "TR"])
     assert sorted(f.code for f in report.findings) == ["SW011", "TR001", "TR002"]
+
+
+def _sections_of_the_cases() -> list[tuple[str, int, int]]:
+    cases = sorted((CASES / "RL002").glob("*.xodr")) + sorted((CASES / "RL003").glob("*.xodr"))
+    cases += sorted((CASES / "SW011").glob("*.xodr"))
+    found = []
+    for path in cases:
+        network = build_network(load_bytes(path.read_bytes(), path.name).root)
+        for r, road in enumerate(network.roads):
+            for k, _ in enumerate(road.section_ranges()):
+                found.append((str(path.relative_to(CASES)), r, k))
+    return found
+
+
+@pytest.mark.parametrize(("case", "road_index", "section_index"), _sections_of_the_cases())
+def test_centre_at_one_s_equals_the_centre_functions(
+    case: str, road_index: int, section_index: int
+) -> None:
+    # centre_at evaluates at one s what centre_terms builds as functions for RL002/RL003
+    path = CASES / case
+    road = build_network(load_bytes(path.read_bytes(), path.name).root).roads[road_index]
+    section, start, end = list(road.section_ranges())[section_index]
+    for lane in section.lanes:
+        terms = centre_terms(road, section, start, lane)
+        for s in (start - 1.0, start, (start + end) / 2, end, start + 0.3 * (end - start)):
+            at = centre_at(road, section, start, lane, s)
+            if terms is None:
+                assert at is None
+            else:
+                assert at is not None and math.isclose(at, lateral_value(terms, s), abs_tol=1e-12)

@@ -81,8 +81,11 @@ def reference_line(road: etree._Element) -> ReferenceLine:
     if not geometries:
         problems.append(GeometryProblem(road, road_id, "road has no planView geometry"))
     for index, element in enumerate(geometries):
-        following = geometries[index + 1] if index + 1 < len(geometries) else None
-        record = read_record(element, _length_fallback(element, following, road))
+        fallback = None
+        if number(element, "length") is None:  # the fallback costs two reads: only when needed
+            following = geometries[index + 1] if index + 1 < len(geometries) else None
+            fallback = _length_fallback(element, following, road)
+        record = read_record(element, fallback)
         if isinstance(record, str):
             problems.append(GeometryProblem(element, road_id, record))
         else:

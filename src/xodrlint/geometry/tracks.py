@@ -25,7 +25,7 @@ from typing import Final, NamedTuple
 from xodrlint.geometry.curves import MAX_COORDINATE, Record
 from xodrlint.geometry.planview import ReferenceLine, reference_line
 from xodrlint.model import LaneSection, RailNetwork, Road
-from xodrlint.model.lane_profiles import S_TOLERANCE, centre_terms, lateral_value
+from xodrlint.model.lane_profiles import S_TOLERANCE, centre_at
 
 #: The directions of travel a ``dir`` attribute can give.
 DIRECTIONS: Final = ("+", "-")
@@ -61,12 +61,20 @@ class TrackGeometry:
     def __init__(self, network: RailNetwork) -> None:
         self._network = network
         self._lines: dict[int, ReferenceLine | None] = {}
+        # a switch's point is asked for by SW011 and SW012, a joint's by TR001 and TR002
+        self._points: dict[tuple[int, float], TrackPoint | None] = {}
 
     def point(self, road: Road, s: float) -> TrackPoint | None:
         """The track point of ``road`` at ``s``; ``None`` where it cannot be evaluated."""
+        key = (id(road.element), s)
+        if key not in self._points:
+            self._points[key] = self._evaluate(road, s)
+        return self._points[key]
+
+    def _evaluate(self, road: Road, s: float) -> TrackPoint | None:
         line = self.reference_line(road)
         pose = line.pose(s) if line is not None and math.isfinite(s) else None
-        lateral = _lateral(road, s) if pose is not None else None
+        lateral = self._lateral(road, s) if pose is not None else None
         if pose is None or lateral is None:
             return None
         x, y = pose.offset(lateral)
@@ -74,6 +82,20 @@ class TrackGeometry:
         if not (abs(x) < MAX_COORDINATE and abs(y) < MAX_COORDINATE and math.isfinite(pose.hdg)):
             return None
         return TrackPoint(x, y, pose.hdg)
+
+    def _lateral(self, road: Road, s: float) -> float | None:
+        """The track's t at ``s``: the single rail/tram lane's centre, else the reference
+        line. ``None`` when that lane's centre cannot be computed (a lane described by
+        ``border``, an unreadable ``laneOffset`` or ``width``)."""
+        found = _section_at(road, s)
+        if found is None:
+            return 0.0
+        section, start = found
+        rails = section.rail_lanes
+        if len(rails) != 1:
+            return 0.0
+        value = centre_at(road, section, start, rails[0], s)
+        return value if value is not None and math.isfinite(value) else None
 
     def reference_line(self, road: Road) -> ReferenceLine | None:
         """The road's reference line when every record of it can be evaluated."""
@@ -94,22 +116,6 @@ def _evaluable(record: Record) -> bool:
         and abs(record.y) < MAX_COORDINATE
         and abs(record.hdg) < MAX_HEADING
     )
-
-
-def _lateral(road: Road, s: float) -> float | None:
-    """The track's t at ``s``: the single rail/tram lane's centre, else the reference line.
-    ``None`` when that lane's centre cannot be computed (a lane described by ``border``,
-    an unreadable ``laneOffset`` or ``width``)."""
-    found = _section_at(road, s)
-    if found is None:
-        return 0.0
-    section, start = found
-    rails = section.rail_lanes
-    if len(rails) != 1:
-        return 0.0
-    terms = centre_terms(road, section, start, rails[0])
-    value = lateral_value(terms, s) if terms is not None else None
-    return value if value is not None and math.isfinite(value) else None
 
 
 def _section_at(road: Road, s: float) -> tuple[LaneSection, float] | None:
