@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import bisect
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 from typing import Final, NamedTuple
 
 from lxml import etree
@@ -34,18 +33,21 @@ class GeometryProblem(NamedTuple):
     message: str
 
 
-@dataclass(frozen=True)
 class ReferenceLine:
-    """The usable records of one road, in order of s."""
+    """The usable records of one road, in order of s (a plain class, as the records are:
+    see :class:`~xodrlint.geometry.curves.Record`)."""
 
-    records: tuple[Record, ...]
-    problems: tuple[GeometryProblem, ...] = ()
-    starts: tuple[float, ...] = field(init=False, repr=False, compare=False)
+    __slots__ = ("problems", "records", "starts")
 
-    def __post_init__(self) -> None:
-        ordered = tuple(sorted(self.records, key=lambda record: record.s))
-        object.__setattr__(self, "records", ordered)
-        object.__setattr__(self, "starts", tuple(record.s for record in ordered))
+    def __init__(
+        self, records: tuple[Record, ...], problems: tuple[GeometryProblem, ...] = ()
+    ) -> None:
+        self.records = tuple(sorted(records, key=lambda record: record.s))
+        self.problems = problems
+        self.starts = tuple(record.s for record in self.records)
+
+    def __repr__(self) -> str:
+        return f"ReferenceLine(records={self.records!r}, problems={self.problems!r})"
 
     def record_at(self, s: float) -> Record | None:
         """The record that covers ``s`` (the nearest end within 1 mm counts as covering)."""
