@@ -21,6 +21,9 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Final
 
+#: Bumped whenever the networks change, so a benchmark's work folder never reuses a network
+#: an older generator wrote (version 2: side tracks that meet their switches).
+GENERATOR_VERSION: Final = 2
 TRACK_LENGTH: Final = 200.0
 STREET_LANES: Final = 3  # per side
 #: Heading change of each arc of a reverse curve (8.6 degrees: a 1:6.6 turnout).

@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from generate import write_network
+from generate import GENERATOR_VERSION, write_network
 
 MB = 1024 * 1024
 TARGETS = {"R1": 1.5, "R2": 2.0, "R3": 1.5, "M": 1.5, "S": 2.2, "B": 1.6}
@@ -82,6 +82,7 @@ def _entry(schemas: Path, version: str) -> Path:
 
 
 def prepare(workdir: Path, size_mb: float) -> dict[str, Path]:
+    workdir = workdir / f"generator-{GENERATOR_VERSION}"  # never an older generator's files
     workdir.mkdir(parents=True, exist_ok=True)
     files = {
         "n17": workdir / f"network-{size_mb:g}mb-1.7.xodr",
