@@ -20,11 +20,12 @@ holds, numbers that overflow) has no track points: the rules stay silent on it.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import Final, NamedTuple
 
 from xodrlint.geometry.curves import MAX_COORDINATE, Record
 from xodrlint.geometry.planview import ReferenceLine, reference_line
-from xodrlint.model import LaneSection, RailNetwork, Road
+from xodrlint.model import LaneSection, RailNetwork, Road, number
 from xodrlint.model.lane_profiles import S_TOLERANCE, centre_at
 
 #: The directions of travel a ``dir`` attribute can give.
@@ -73,11 +74,16 @@ class TrackGeometry:
 
     def _evaluate(self, road: Road, s: float) -> TrackPoint | None:
         line = self.reference_line(road)
-        pose = line.pose(s) if line is not None and math.isfinite(s) else None
-        lateral = self._lateral(road, s) if pose is not None else None
-        if pose is None or lateral is None:
+        try:
+            pose = line.pose(s) if line is not None and math.isfinite(s) else None
+            lateral = self._lateral(road, s) if pose is not None else None
+            if pose is None or lateral is None:
+                return None
+            x, y = pose.offset(lateral)
+        except (ArithmeticError, ValueError):
+            # a record whose numbers are each finite can still overflow in between (a
+            # spiral's curvature rate over a length of 1e-300): no place on any map
             return None
-        x, y = pose.offset(lateral)
         # also false for nan and inf: a point no map holds says nothing about a railway
         if not (abs(x) < MAX_COORDINATE and abs(y) < MAX_COORDINATE and math.isfinite(pose.hdg)):
             return None
@@ -87,9 +93,12 @@ class TrackGeometry:
         """The track's t at ``s``: the single rail/tram lane's centre, else the reference
         line. ``None`` when that lane's centre cannot be computed (a lane described by
         ``border``, an unreadable ``laneOffset`` or ``width``)."""
-        found = _section_at(road, s)
+        sections = road.lane_sections
+        if not sections:
+            return 0.0  # a road without lanes: its reference line
+        found = _section_at(sections, s)
         if found is None:
-            return 0.0
+            return None  # an unreadable section start, or s before the first section
         section, start = found
         rails = section.rail_lanes
         if len(rails) != 1:
@@ -103,6 +112,10 @@ class TrackGeometry:
         if key not in self._lines:
             line = reference_line(road.element)
             usable = line.records and not line.problems and all(map(_evaluable, line.records))
+            # the map draws a record whose own length is unreadable up to the next one; a
+            # rule judges nothing it would have to guess
+            geometries = road.element.iterfind("planView/geometry")
+            usable = usable and all(number(g, "length") is not None for g in geometries)
             self._lines[key] = line if usable else None
         return self._lines[key]
 
@@ -118,10 +131,14 @@ def _evaluable(record: Record) -> bool:
     )
 
 
-def _section_at(road: Road, s: float) -> tuple[LaneSection, float] | None:
-    """The lane section that holds ``s``: at a boundary, the one that starts there."""
+def _section_at(sections: Sequence[LaneSection], s: float) -> tuple[LaneSection, float] | None:
+    """The lane section that holds ``s`` (at a boundary, the one that starts there), read
+    from the sections' starts alone; ``None`` when a start is unreadable or ``s`` lies
+    before the first."""
     found = None
-    for section, start, _ in road.section_ranges():
-        if start <= s + S_TOLERANCE:
-            found = (section, start)
+    for section in sections:
+        if section.s is None:
+            return None
+        if section.s <= s + S_TOLERANCE:
+            found = (section, section.s)
     return found

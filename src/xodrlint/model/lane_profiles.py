@@ -228,10 +228,12 @@ def centre_at(
 ) -> float | None:
     """``lateral_value(centre_terms(road, section, section_start, lane), s)``, evaluated at
     the one ``s`` without building the piecewise functions: the track-geometry rules ask
-    once per switch or joint, where building them cost three times the evaluation."""
+    once per switch or joint, where building them cost three times the evaluation.
+    Where a lane's width is not yet defined at ``s`` (its first ``sOffset`` lies beyond),
+    ``None``: :func:`extremes` leaves that stretch unjudged too."""
     if not road.lane_offsets_complete or lane.id is None or lane.id == 0:
         return None
-    total = _piece_value(road.lane_offsets, 0.0, s, zero_before=True)
+    total = _piece_value(road.lane_offsets, 0.0, s, zero_before=True) or 0.0
     sign = 1.0 if lane.id > 0 else -1.0
     for step in range(1, abs(lane.id) + 1):
         wanted = int(sign) * step
@@ -239,26 +241,25 @@ def centre_at(
         if inner is None or not inner.widths or not inner.widths_complete:
             return None
         weight = sign * (0.5 if step == abs(lane.id) else 1.0)
-        total += weight * _piece_value(inner.widths, section_start, s, zero_before=False)
+        width = _piece_value(inner.widths, section_start, s, zero_before=False)
+        if width is None:
+            return None
+        total += weight * width
     return total
 
 
-def _piece_value(cubics: Sequence[Cubic], origin: float, s: float, *, zero_before: bool) -> float:
+def _piece_value(
+    cubics: Sequence[Cubic], origin: float, s: float, *, zero_before: bool
+) -> float | None:
     """The value at ``s`` of the piece that holds there, chosen as :meth:`Piecewise.piece_at`
-    and :func:`lateral_value` choose it (the later of equal starts; before the first
-    piece, 0 or the first piece)."""
+    chooses it (the later of equal starts); before the first piece, 0 (``zero_before``)
+    or ``None``."""
     chosen: Cubic | None = None
-    first: Cubic | None = None
     for cubic in cubics:
-        if first is None or cubic.start < first.start:
-            first = cubic
-        if cubic.start + origin <= s + S_TOLERANCE and (
-            chosen is None or cubic.start >= chosen.start
-        ):
+        started = cubic.start + origin <= s + S_TOLERANCE
+        if started and (chosen is None or cubic.start >= chosen.start):
             chosen = cubic
     if chosen is None:
-        if zero_before or first is None:
-            return 0.0
-        chosen = first
+        return 0.0 if zero_before else None
     x = s - (origin + chosen.start)
     return chosen.a + x * (chosen.b + x * (chosen.c + x * chosen.d))

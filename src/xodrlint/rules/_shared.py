@@ -8,7 +8,16 @@ from typing import Final, TypeVar
 
 from xodrlint.model.lane_profiles import S_TOLERANCE
 
-__all__ = ["S_TOLERANCE", "degrees", "later_duplicates", "metres", "point", "quoted", "within"]
+__all__ = [
+    "S_TOLERANCE",
+    "beyond",
+    "degrees",
+    "later_duplicates",
+    "metres",
+    "point",
+    "quoted",
+    "within",
+]
 
 _T = TypeVar("_T")
 
@@ -37,9 +46,19 @@ def _millimetres(value: float) -> str:
 
 
 def degrees(radians: float) -> str:
-    """An angle for messages, in degrees to a hundredth."""
+    """A direction or angle for messages, in degrees to a hundredth (a full turn is 0)."""
     text = f"{math.degrees(radians):.2f}".rstrip("0").rstrip(".")
-    return "0" if text in ("-0", "") else text
+    return "0" if text in ("-0", "", "360") else text
+
+
+def beyond(value: float, limit: float, places: int) -> str:
+    """``value`` for a message saying it exceeds ``limit``: to ``places`` decimals, or as
+    many more as it takes not to read as the limit itself (0.1000011 against 0.1)."""
+    for digits in range(places, 12):
+        text = f"{value:.{digits}f}".rstrip("0").rstrip(".")
+        if float(text) > limit:
+            return text
+    return repr(value)
 
 
 def within(value: float, low: float, high: float) -> bool:

@@ -58,7 +58,7 @@ from typing import Final
 from xodrlint.findings import Hit, RuleOption, Severity
 from xodrlint.model import RailNetwork
 from xodrlint.rules import Settings, rule
-from xodrlint.rules._shared import S_TOLERANCE, metres, point, quoted
+from xodrlint.rules._shared import S_TOLERANCE, beyond, metres, point, quoted
 from xodrlint.rules.switches._geometry import switch_points
 
 TOLERANCE: Final = RuleOption(
@@ -88,7 +88,7 @@ def switch_tracks_apart(network: RailNetwork, settings: Settings) -> Iterator[Hi
             begins = "starts" if abs(switch.side_track.s or 0.0) <= S_TOLERANCE else "ends"
             yield Hit(
                 switch.side_track.element,
-                f"side track of switch {quoted(switch.id)} {begins} {metres(round(distance, 4))} m "
+                f"side track of switch {quoted(switch.id)} {begins} {beyond(distance, tolerance, 4)} m "
                 f"from the switch point on road '{switch.main_track.road_id}' at "
                 f"s={metres(switch.main_track.s or 0.0)} "
                 f"({point(main.x, main.y)} and {point(side.x, side.y)})",

@@ -60,7 +60,7 @@ from typing import Final
 from xodrlint.findings import Hit, RuleOption, Severity
 from xodrlint.model import RailNetwork
 from xodrlint.rules import Settings, rule
-from xodrlint.rules._shared import S_TOLERANCE, degrees, metres, quoted
+from xodrlint.rules._shared import S_TOLERANCE, beyond, degrees, metres, quoted
 from xodrlint.rules.switches._geometry import switch_points
 from xodrlint.rules.switches.sw011 import TOLERANCE
 
@@ -101,7 +101,7 @@ def switch_direction_mismatch(network: RailNetwork, settings: Settings) -> Itera
         if angle > limit + _ANGLE_SLACK:
             yield Hit(
                 switch.element,
-                f"switch {quoted(switch.id)} turns trains by {degrees(angle)} degrees: main "
+                f"switch {quoted(switch.id)} turns trains by {beyond(math.degrees(angle), settings[ANGLE.name], 2)} degrees: main "
                 f"track '{main.road_id}' at s={metres(main.s or 0.0)} runs "
                 f"{degrees(_circle(entering))} degrees ('{main.dir}'), side track "
                 f"'{side.road_id}' at s={metres(side.s or 0.0)} runs "

@@ -55,7 +55,7 @@ from typing import Final
 from xodrlint.findings import Hit, RuleOption, Severity
 from xodrlint.model import RailNetwork
 from xodrlint.rules import Settings, rule
-from xodrlint.rules._shared import S_TOLERANCE, metres, point
+from xodrlint.rules._shared import S_TOLERANCE, beyond, point
 from xodrlint.rules.tracks._joints import joints
 
 TOLERANCE: Final = RuleOption(
@@ -80,6 +80,6 @@ def track_link_gap(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
         if distance > tolerance + S_TOLERANCE:
             yield Hit(
                 joint.link.element,
-                f"{joint.describe()}, {metres(round(distance, 4))} m apart "
+                f"{joint.describe()}, {beyond(distance, tolerance, 4)} m apart "
                 f"({point(first.x, first.y)} and {point(second.x, second.y)})",
             )

@@ -53,7 +53,7 @@ from typing import Final
 from xodrlint.findings import Hit, RuleOption, Severity
 from xodrlint.model import RailNetwork
 from xodrlint.rules import Settings, rule
-from xodrlint.rules._shared import degrees
+from xodrlint.rules._shared import beyond, degrees
 from xodrlint.rules.tracks._joints import joints
 
 ANGLE: Final = RuleOption(
@@ -82,7 +82,7 @@ def track_link_kink(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
         if angle > limit + _ANGLE_SLACK:
             yield Hit(
                 joint.link.element,
-                f"{joint.describe()} at an angle of {degrees(angle)} degrees: a train leaves "
+                f"{joint.describe()} at an angle of {beyond(math.degrees(angle), settings[ANGLE.name], 2)} degrees: a train leaves "
                 f"at {degrees(leaving % math.tau)} degrees and enters at "
                 f"{degrees(entering % math.tau)} degrees",
             )
