@@ -264,3 +264,12 @@ def _offset_at_start(record: Record) -> bool:
     if isinstance(record, Poly3):
         return record.a != 0
     return isinstance(record, ParamPoly3) and (record.u[0] != 0 or record.v[0] != 0)
+
+
+def test_a_spiral_whose_curvature_changes_faster_than_a_double_holds_is_not_drawn() -> None:
+    # finite curvatures over 1e-300 m: the rate overflows and cos() raised (exit 3 in map)
+    element = etree.fromstring(
+        '<geometry s="0" x="0" y="0" hdg="0" length="1e-300">'
+        '<spiral curvStart="0" curvEnd="1e300"/></geometry>'
+    )
+    assert "changes too fast" in str(read_record(element))

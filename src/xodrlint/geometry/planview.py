@@ -4,6 +4,7 @@ a readable reason for each one that cannot (drawn as far as possible, never rais
 from __future__ import annotations
 
 import bisect
+import math
 from collections.abc import Sequence
 from typing import Final, NamedTuple
 
@@ -123,6 +124,13 @@ def read_record(element: etree._Element, length_fallback: float | None = None) -
     bound = record.max_curvature() if isinstance(record, Record) else None
     if bound is not None and bound * length > MAX_TURN:
         return f"geometry turns {bound * length:.3g} rad in {length:g} m: not drawn"
+    # finite curvatures over a tiny length can give a rate of change that overflows
+    if (
+        isinstance(record, Spiral)
+        and length > 0
+        and not math.isfinite((record.curv_end - record.curv_start) / length)
+    ):
+        return f"spiral's curvature changes too fast over {length:g} m: not drawn"
     return record
 
 
