@@ -24,6 +24,14 @@ from xodrlint.model import number
 
 #: The curve elements a ``geometry`` record may hold.
 CURVE_TAGS: Final = ("line", "arc", "spiral", "poly3", "paramPoly3")
+_RECORD_ATTRIBUTES: Final = ("s", "x", "y", "hdg", "length")
+#: The coefficients of each curve but the line, in the order its record takes them.
+_COEFFICIENTS: Final = {
+    "arc": ("curvature",),
+    "spiral": ("curvStart", "curvEnd"),
+    "poly3": ("a", "b", "c", "d"),
+    "paramPoly3": ("aU", "bU", "cU", "dU", "aV", "bV", "cV", "dV"),
+}
 
 
 class GeometryProblem(NamedTuple):
@@ -38,14 +46,21 @@ class ReferenceLine:
     """The usable records of one road, in order of s (a plain class, as the records are:
     see :class:`~xodrlint.geometry.curves.Record`)."""
 
-    __slots__ = ("problems", "records", "starts")
+    __slots__ = ("guessed", "problems", "records", "starts")
 
     def __init__(
-        self, records: tuple[Record, ...], problems: tuple[GeometryProblem, ...] = ()
+        self,
+        records: tuple[Record, ...],
+        problems: tuple[GeometryProblem, ...] = (),
+        *,
+        guessed: bool = False,
     ) -> None:
         self.records = tuple(sorted(records, key=lambda record: record.s))
         self.problems = problems
         self.starts = tuple(record.s for record in self.records)
+        #: A record's own length was unreadable and taken up to the next record or the
+        #: road's end: good enough to draw, not to judge.
+        self.guessed = guessed
 
     def __repr__(self) -> str:
         return f"ReferenceLine(records={self.records!r}, problems={self.problems!r})"
@@ -83,17 +98,19 @@ def reference_line(road: etree._Element) -> ReferenceLine:
     geometries = plan_view.findall("geometry") if plan_view is not None else []
     if not geometries:
         problems.append(GeometryProblem(road, road_id, "road has no planView geometry"))
+    guessed = False
     for index, element in enumerate(geometries):
         fallback = None
         if number(element, "length") is None:  # the fallback costs two reads: only when needed
             following = geometries[index + 1] if index + 1 < len(geometries) else None
             fallback = _length_fallback(element, following, road)
+            guessed = True
         record = read_record(element, fallback)
         if isinstance(record, str):
             problems.append(GeometryProblem(element, road_id, record))
         else:
             records.append(record)
-    return ReferenceLine(tuple(records), tuple(problems))
+    return ReferenceLine(tuple(records), tuple(problems), guessed=guessed)
 
 
 def _length_fallback(
@@ -107,14 +124,13 @@ def _length_fallback(
 
 def read_record(element: etree._Element, length_fallback: float | None = None) -> Record | str:
     """The record of a ``geometry`` element, or why it cannot be drawn."""
-    values = {name: number(element, name) for name in ("s", "x", "y", "hdg", "length")}
-    if values["length"] is None:
-        values["length"] = length_fallback
-    missing = [name for name, value in values.items() if value is None]
-    if missing:
-        listed = ", ".join(f"'@{name}'" for name in missing)
-        return f"geometry lacks a readable {listed}"
-    s, x, y, hdg, length = (float(values[n] or 0.0) for n in ("s", "x", "y", "hdg", "length"))
+    s, x, y, hdg, length = (number(element, name) for name in _RECORD_ATTRIBUTES)
+    if length is None:
+        length = length_fallback
+    if s is None or x is None or y is None or hdg is None or length is None:
+        values = (s, x, y, hdg, length)
+        missing = [n for n, v in zip(_RECORD_ATTRIBUTES, values, strict=True) if v is None]
+        return "geometry lacks a readable " + ", ".join(f"'@{name}'" for name in missing)
     if length < 0:
         return f"geometry has a negative length ({length:g})"
     curve = next((child for child in element if child.tag in CURVE_TAGS), None)
@@ -146,13 +162,7 @@ def _curve(curve: etree._Element, base: tuple[float, float, float, float, float]
     tag = curve.tag
     if tag == "line":
         return Line(*base)
-    names = {
-        "arc": ("curvature",),
-        "spiral": ("curvStart", "curvEnd"),
-        "poly3": ("a", "b", "c", "d"),
-        "paramPoly3": ("aU", "bU", "cU", "dU", "aV", "bV", "cV", "dV"),
-    }[str(tag)]
-    values = _coefficients(curve, names)
+    values = _coefficients(curve, _COEFFICIENTS[str(tag)])
     if isinstance(values, str):
         return values
     if tag == "arc":

@@ -25,7 +25,7 @@ from typing import Final, NamedTuple
 
 from xodrlint.geometry.curves import MAX_COORDINATE, Record
 from xodrlint.geometry.planview import ReferenceLine, reference_line
-from xodrlint.model import LaneSection, RailNetwork, Road, number
+from xodrlint.model import LaneSection, RailNetwork, Road
 from xodrlint.model.lane_profiles import S_TOLERANCE, centre_at
 
 #: The directions of travel a ``dir`` attribute can give.
@@ -111,11 +111,10 @@ class TrackGeometry:
         key = id(road.element)
         if key not in self._lines:
             line = reference_line(road.element)
-            usable = line.records and not line.problems and all(map(_evaluable, line.records))
-            # the map draws a record whose own length is unreadable up to the next one; a
-            # rule judges nothing it would have to guess
-            geometries = road.element.iterfind("planView/geometry")
-            usable = usable and all(number(g, "length") is not None for g in geometries)
+            # the map draws a record whose own length is unreadable up to the next one
+            # (guessed); a rule judges nothing it would have to guess
+            usable = line.records and not line.problems and not line.guessed
+            usable = usable and all(map(_evaluable, line.records))
             self._lines[key] = line if usable else None
         return self._lines[key]
 
