@@ -305,3 +305,4 @@ def test_a_message_never_reads_as_its_limit() -> None:
     assert beyond(0.15, 0.1, 4) == "0.15"
     assert beyond(5.0000001, 5.0, 2) == "5.0000001"
     assert degrees(math.tau - 1e-7) == "0"
+    assert degrees(-0.1) == "354.27"  # a direction reads on the circle

@@ -28,8 +28,6 @@ from xodrlint.geometry.planview import ReferenceLine, reference_line
 from xodrlint.model import LaneSection, RailNetwork, Road
 from xodrlint.model.lane_profiles import S_TOLERANCE, centre_at
 
-#: The directions of travel a ``dir`` attribute can give.
-DIRECTIONS: Final = ("+", "-")
 #: Headings beyond this many radians have lost their meaning to rounding (an ulp of 1e6
 #: is 1e-10 rad); a record heading so far is a data error, not a direction.
 MAX_HEADING: Final = 1e6
@@ -50,17 +48,27 @@ class TrackPoint(NamedTuple):
         return self.heading + (math.pi if dir == "-" else 0.0)
 
 
+#: Angles equal within this are equal: a heading computed from a cubic carries rounding.
+_ANGLE_SLACK: Final = 1e-9
+
+
 def angle_between(first: float, second: float) -> float:
     """The smallest difference of two directions on the circle, in radians (0 to pi)."""
     difference = math.remainder(first - second, math.tau)
     return abs(difference)
 
 
+def turn_beyond(first: float, second: float, limit_degrees: float) -> float | None:
+    """The angle between two directions (radians) when it exceeds ``limit_degrees``."""
+    angle = angle_between(first, second)
+    return angle if angle > math.radians(limit_degrees) + _ANGLE_SLACK else None
+
+
 class TrackGeometry:
     """The track points of one file's roads, each road's plan view read once."""
 
     def __init__(self, network: RailNetwork) -> None:
-        self._network = network
+        del network  # taken as RailNetwork.shared makes it; roads are passed per call
         self._lines: dict[int, ReferenceLine | None] = {}
         # a switch's point is asked for by SW011 and SW012, a joint's by TR001 and TR002
         self._points: dict[tuple[int, float], TrackPoint | None] = {}

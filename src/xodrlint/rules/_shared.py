@@ -46,8 +46,9 @@ def _millimetres(value: float) -> str:
 
 
 def degrees(radians: float) -> str:
-    """A direction or angle for messages, in degrees to a hundredth (a full turn is 0)."""
-    text = f"{math.degrees(radians):.2f}".rstrip("0").rstrip(".")
+    """A direction or angle for messages, in degrees from 0 to 360 (exclusive), to a
+    hundredth: -0.1 rad reads 354.27, a full turn 0."""
+    text = f"{math.degrees(radians % math.tau):.2f}".rstrip("0").rstrip(".")
     return "0" if text in ("-0", "", "360") else text
 
 

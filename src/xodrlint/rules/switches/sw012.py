@@ -70,8 +70,6 @@ ANGLE: Final = RuleOption(
     description="Largest angle between the directions of travel on a switch's two tracks",
     unit="degrees",
 )
-#: Angles equal within this are equal (a heading computed from a cubic carries rounding).
-_ANGLE_SLACK: Final = 1e-9
 
 
 @rule(
@@ -82,9 +80,9 @@ _ANGLE_SLACK: Final = 1e-9
     options=(ANGLE, TOLERANCE),
 )
 def switch_direction_mismatch(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
-    from xodrlint.geometry.tracks import angle_between
+    from xodrlint.geometry.tracks import turn_beyond
 
-    limit = math.radians(settings[ANGLE.name])
+    limit = settings[ANGLE.name]
     for switch in network.switches:
         main, side = switch.main_track, switch.side_track
         points = switch_points(network, switch)
@@ -97,18 +95,13 @@ def switch_direction_mismatch(network: RailNetwork, settings: Settings) -> Itera
             continue  # SW011's defect: directions at two places say nothing
         entering = main_point.direction(main.dir)
         leaving = side_point.direction(side.dir)
-        angle = angle_between(entering, leaving)
-        if angle > limit + _ANGLE_SLACK:
+        angle = turn_beyond(entering, leaving, limit)
+        if angle is not None:
             yield Hit(
                 switch.element,
-                f"switch {quoted(switch.id)} turns trains by {beyond(math.degrees(angle), settings[ANGLE.name], 2)} degrees: main "
-                f"track '{main.road_id}' at s={metres(main.s or 0.0)} runs "
-                f"{degrees(_circle(entering))} degrees ('{main.dir}'), side track "
-                f"'{side.road_id}' at s={metres(side.s or 0.0)} runs "
-                f"{degrees(_circle(leaving))} degrees ('{side.dir}')",
+                f"switch {quoted(switch.id)} turns trains by "
+                f"{beyond(math.degrees(angle), limit, 2)} degrees: main track "
+                f"'{main.road_id}' at s={metres(main.s or 0.0)} runs {degrees(entering)} "
+                f"degrees ('{main.dir}'), side track '{side.road_id}' at "
+                f"s={metres(side.s or 0.0)} runs {degrees(leaving)} degrees ('{side.dir}')",
             )
-
-
-def _circle(angle: float) -> float:
-    """The direction as an angle in [0, 2 pi)."""
-    return angle % math.tau

@@ -62,7 +62,6 @@ ANGLE: Final = RuleOption(
     description="Largest angle between the directions of travel at a joint of two rail roads",
     unit="degrees",
 )
-_ANGLE_SLACK: Final = 1e-9
 
 
 @rule(
@@ -73,16 +72,16 @@ _ANGLE_SLACK: Final = 1e-9
     options=(ANGLE,),
 )
 def track_link_kink(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
-    from xodrlint.geometry.tracks import angle_between
+    from xodrlint.geometry.tracks import turn_beyond
 
-    limit = math.radians(settings[ANGLE.name])
+    limit = settings[ANGLE.name]
     for joint in joints(network):
         leaving, entering = joint.leaving, joint.entering
-        angle = angle_between(leaving, entering)
-        if angle > limit + _ANGLE_SLACK:
+        angle = turn_beyond(leaving, entering, limit)
+        if angle is not None:
             yield Hit(
                 joint.link.element,
-                f"{joint.describe()} at an angle of {beyond(math.degrees(angle), settings[ANGLE.name], 2)} degrees: a train leaves "
-                f"at {degrees(leaving % math.tau)} degrees and enters at "
-                f"{degrees(entering % math.tau)} degrees",
+                f"{joint.describe()} at an angle of {beyond(math.degrees(angle), limit, 2)} "
+                f"degrees: a train leaves at {degrees(leaving)} degrees and enters at "
+                f"{degrees(entering)} degrees",
             )
