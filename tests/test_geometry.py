@@ -189,6 +189,29 @@ def test_a_broken_record_leaves_the_others_drawn() -> None:
     assert polylines(line, 0.05) == [[(0.0, 0.0), (10.0, 0.0)], [(20.0, 0.0), (30.0, 0.0)]]
 
 
+def test_records_written_out_of_order_are_taken_in_order_of_s() -> None:
+    road = etree.fromstring(
+        """<road id="8" length="20"><planView>
+        <geometry s="10" x="10" y="0" hdg="0" length="10"><line/></geometry>
+        <geometry s="0" x="0" y="0" hdg="0" length="10"><line/></geometry>
+        </planView></road>"""
+    )
+    line = reference_line(road)
+    assert [record.s for record in line.records] == [0.0, 10.0]
+    assert line.pose(15.0) == Pose(15.0, 0.0, 0.0)
+    assert line.pose(5.0) == Pose(5.0, 0.0, 0.0)
+
+
+def test_a_record_lacking_its_length_and_more_names_all_it_lacks() -> None:
+    road = etree.fromstring(
+        '<road id="9" length="20"><planView><geometry x="0" y="0" hdg="0"><line/></geometry>'
+        "</planView></road>"
+    )
+    assert [p.message for p in reference_line(road).problems] == [
+        "geometry lacks a readable '@s', '@length'"
+    ]
+
+
 def test_a_road_without_plan_view_is_a_problem_not_an_error() -> None:
     line = reference_line(etree.fromstring('<road id="1" length="5"/>'))
     assert line.records == () and [p.message for p in line.problems] == [

@@ -8,7 +8,7 @@ import pytest
 from lxml import etree
 
 from xodrlint.document import load_bytes
-from xodrlint.model import build_network, number
+from xodrlint.model import build_network, number, numbers
 
 from .conftest import REPO
 
@@ -49,6 +49,7 @@ def test_indexes_of_the_clean_example() -> None:
         ("1,5", None),
         ("1_0", None),
         ("abc", None),
+        ("\u0661\u0662", None),  # Arabic-Indic digits: float() reads them, xs:double not
     ],
 )
 def test_numbers_are_read_as_finite_xsd_doubles_or_none(raw: str, expected: float | None) -> None:
@@ -57,6 +58,10 @@ def test_numbers_are_read_as_finite_xsd_doubles_or_none(raw: str, expected: floa
     assert value == expected
     if value is not None:
         assert math.isfinite(value)
+    # read with others in one pass, each value is judged on its own: the others neither
+    # rescue nor spoil it (a record's five attributes are read this way)
+    element.set("w", "2.5")
+    assert numbers(element, ("w", "v", "missing", "w")) == [2.5, expected, None, 2.5]
 
 
 def test_malformed_attributes_become_none_not_errors() -> None:

@@ -132,6 +132,9 @@ class Record:
 class Line(Record):
     __slots__ = ()
 
+    def pose_at(self, ds: float) -> Pose:  # the general form, without the local pose
+        return Pose(self.x + ds * math.cos(self.hdg), self.y + ds * math.sin(self.hdg), self.hdg)
+
 
 class Arc(Record):
     __slots__ = ("curvature",)

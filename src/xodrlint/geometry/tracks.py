@@ -69,24 +69,29 @@ class TrackGeometry:
 
     def __init__(self, network: RailNetwork) -> None:
         del network  # taken as RailNetwork.shared makes it; roads are passed per call
-        self._lines: dict[int, ReferenceLine | None] = {}
-        # a switch's point is asked for by SW011 and SW012, a joint's by TR001 and TR002
-        self._points: dict[tuple[int, float], TrackPoint | None] = {}
+        self._lines: dict[Road, ReferenceLine | None] = {}
+        # a switch's point is asked for by the map as well as the rules
+        self._points: dict[tuple[Road, float], TrackPoint | None] = {}
 
     def point(self, road: Road, s: float) -> TrackPoint | None:
         """The track point of ``road`` at ``s``; ``None`` where it cannot be evaluated."""
-        key = (id(road.element), s)
-        if key not in self._points:
-            self._points[key] = self._evaluate(road, s)
-        return self._points[key]
+        key = (road, s)
+        try:
+            return self._points[key]
+        except KeyError:
+            found = self._points[key] = self._evaluate(road, s)
+            return found
 
     def _evaluate(self, road: Road, s: float) -> TrackPoint | None:
         line = self.reference_line(road)
+        record = line.record_at(s) if line is not None and math.isfinite(s) else None
+        if record is None:
+            return None
         try:
-            pose = line.pose(s) if line is not None and math.isfinite(s) else None
-            lateral = self._lateral(road, s) if pose is not None else None
-            if pose is None or lateral is None:
+            lateral = self._lateral(road, s)
+            if lateral is None:
                 return None
+            pose = record.pose_at(min(max(s - record.s, 0.0), record.length))
             x, y = pose.offset(lateral)
         except (ArithmeticError, ValueError):
             # a record whose numbers are each finite can still overflow in between (a
@@ -97,34 +102,35 @@ class TrackGeometry:
             return None
         return TrackPoint(x, y, pose.hdg)
 
-    def _lateral(self, road: Road, s: float) -> float | None:
+    @staticmethod
+    def _lateral(road: Road, s: float) -> float | None:
         """The track's t at ``s``: the single rail/tram lane's centre, else the reference
         line. ``None`` when that lane's centre cannot be computed (a lane described by
         ``border``, an unreadable ``laneOffset`` or ``width``)."""
         sections = road.lane_sections
         if not sections:
             return 0.0  # a road without lanes: its reference line
-        found = _section_at(sections, s)
-        if found is None:
+        section = _section_at(sections, s)
+        if section is None:
             return None  # an unreadable section start, or s before the first section
-        section, start = found
         rails = section.rail_lanes
         if len(rails) != 1:
             return 0.0
-        value = centre_at(road, section, start, rails[0], s)
+        value = centre_at(road, section, section.s or 0.0, rails[0], s)
         return value if value is not None and math.isfinite(value) else None
 
     def reference_line(self, road: Road) -> ReferenceLine | None:
         """The road's reference line when every record of it can be evaluated."""
-        key = id(road.element)
-        if key not in self._lines:
+        try:
+            return self._lines[road]
+        except KeyError:
             line = reference_line(road.element)
             # the map draws a record whose own length is unreadable up to the next one
             # (guessed); a rule judges nothing it would have to guess
             usable = line.records and not line.problems and not line.guessed
-            usable = usable and all(map(_evaluable, line.records))
-            self._lines[key] = line if usable else None
-        return self._lines[key]
+            found = line if usable and all(map(_evaluable, line.records)) else None
+            self._lines[road] = found
+            return found
 
 
 def _evaluable(record: Record) -> bool:
@@ -138,14 +144,15 @@ def _evaluable(record: Record) -> bool:
     )
 
 
-def _section_at(sections: Sequence[LaneSection], s: float) -> tuple[LaneSection, float] | None:
+def _section_at(sections: Sequence[LaneSection], s: float) -> LaneSection | None:
     """The lane section that holds ``s`` (at a boundary, the one that starts there), read
     from the sections' starts alone; ``None`` when a start is unreadable or ``s`` lies
     before the first."""
     found = None
     for section in sections:
-        if section.s is None:
+        start = section.s
+        if start is None:
             return None
-        if section.s <= s + S_TOLERANCE:
-            found = (section, section.s)
+        if start <= s + S_TOLERANCE:
+            found = section
     return found

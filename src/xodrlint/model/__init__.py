@@ -28,6 +28,7 @@ from xodrlint.model.network import (
     build_network,
     integer,
     number,
+    numbers,
 )
 
 __all__ = [
@@ -49,4 +50,5 @@ __all__ = [
     "build_network",
     "integer",
     "number",
+    "numbers",
 ]

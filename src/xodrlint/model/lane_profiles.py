@@ -231,25 +231,31 @@ def centre_at(
     once per switch or joint, where building them cost three times the evaluation.
     Where a lane's width is not yet defined at ``s`` (its first ``sOffset`` lies beyond),
     ``None``: :func:`extremes` leaves that stretch unjudged too."""
-    if not road.lane_offsets_complete or lane.id is None or lane.id == 0:
+    lanes = road.lanes
+    if not lanes.offsets_complete or lane.id is None or lane.id == 0:
         return None
-    total = _piece_value(road.lane_offsets, 0.0, s, zero_before=True) or 0.0
+    total = _piece_value(lanes.offsets, 0.0, s, True) or 0.0
+    depth = abs(lane.id)
     sign = 1.0 if lane.id > 0 else -1.0
-    for step in range(1, abs(lane.id) + 1):
-        wanted = int(sign) * step
-        inner = next((o for o in section.lanes if o.side == lane.side and o.id == wanted), None)
-        if inner is None or not inner.widths or not inner.widths_complete:
+    # the lanes from the centre out to ``lane``, each the first of its id (a railway's
+    # track lane is nearly always -1 or 1: one pass over a few lanes)
+    inner: dict[int, Lane] = {}
+    for other in section.lanes:
+        if other.side == lane.side and other.id is not None and other.id not in inner:
+            inner[other.id] = other
+    for step in range(1, depth + 1):
+        found = inner.get(int(sign) * step)
+        if found is None or not found.widths or not found.widths_complete:
             return None
-        weight = sign * (0.5 if step == abs(lane.id) else 1.0)
-        width = _piece_value(inner.widths, section_start, s, zero_before=False)
+        width = _piece_value(found.widths, section_start, s, False)
         if width is None:
             return None
-        total += weight * width
+        total += sign * (0.5 if step == depth else 1.0) * width
     return total
 
 
 def _piece_value(
-    cubics: Sequence[Cubic], origin: float, s: float, *, zero_before: bool
+    cubics: Sequence[Cubic], origin: float, s: float, zero_before: bool
 ) -> float | None:
     """The value at ``s`` of the piece that holds there, chosen as :meth:`Piecewise.piece_at`
     chooses it (the later of equal starts); before the first piece, 0 (``zero_before``)

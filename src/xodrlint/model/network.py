@@ -41,6 +41,22 @@ def number(element: etree._Element, attribute: str) -> float | None:
     return _double(element.get(attribute))
 
 
+def numbers(element: etree._Element, attributes: Sequence[str]) -> list[float | None]:
+    """:func:`number` for each of ``attributes``, in one pass where all are plain finite
+    numbers (nearly always): a plan-view record or a width entry has five to eight."""
+    raws = list(map(element.get, attributes))
+    if None not in raws:
+        try:
+            values = list(map(float, raws))  # type: ignore[arg-type]  # no None: checked
+        except ValueError:
+            pass
+        else:
+            joined = "".join(raws)  # type: ignore[arg-type]
+            if "_" not in joined and joined.isascii() and all(map(math.isfinite, values)):
+                return values  # type: ignore[return-value]  # list is invariant
+    return list(map(_double, raws))
+
+
 def _double(raw: str | None) -> float | None:
     if raw is None:
         return None
@@ -404,8 +420,7 @@ def _read_lane(element: etree._Element, side: str) -> Lane:
 
 def _cubic(entry: etree._Element, start_attribute: str) -> Cubic | None:
     """A ``laneOffset`` or ``width`` entry, ``None`` when a value is unreadable."""
-    get = entry.get
-    start, a, b, c, d = (_double(get(name)) for name in (start_attribute, "a", "b", "c", "d"))
+    start, a, b, c, d = numbers(entry, (start_attribute, "a", "b", "c", "d"))
     if start is None or a is None or b is None or c is None or d is None:
         return None
     return Cubic(entry, start, a, b, c, d)

@@ -59,7 +59,7 @@ from xodrlint.findings import Hit, RuleOption, Severity
 from xodrlint.model import RailNetwork
 from xodrlint.rules import Settings, rule
 from xodrlint.rules._shared import S_TOLERANCE, beyond, metres, point, quoted
-from xodrlint.rules.switches._geometry import switch_points
+from xodrlint.rules.switches._geometry import switches_with_points
 
 TOLERANCE: Final = RuleOption(
     name="switch-tolerance",
@@ -77,11 +77,9 @@ TOLERANCE: Final = RuleOption(
 )
 def switch_tracks_apart(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
     tolerance = settings[TOLERANCE.name]
-    for switch in network.switches:
-        points = switch_points(network, switch)
-        if points is None or switch.main_track is None or switch.side_track is None:
+    for switch, (main, side) in switches_with_points(network):
+        if switch.main_track is None or switch.side_track is None:
             continue
-        main, side = points
         distance = main.distance_to(side)
         if distance > tolerance + S_TOLERANCE:
             # SW006 holds: the side track's s is its road's start or end

@@ -61,7 +61,7 @@ from xodrlint.findings import Hit, RuleOption, Severity
 from xodrlint.model import RailNetwork
 from xodrlint.rules import Settings, rule
 from xodrlint.rules._shared import S_TOLERANCE, beyond, degrees, metres, quoted
-from xodrlint.rules.switches._geometry import switch_points
+from xodrlint.rules.switches._geometry import switches_with_points
 from xodrlint.rules.switches.sw011 import TOLERANCE
 
 ANGLE: Final = RuleOption(
@@ -83,14 +83,10 @@ def switch_direction_mismatch(network: RailNetwork, settings: Settings) -> Itera
     from xodrlint.geometry.tracks import turn_beyond
 
     limit = settings[ANGLE.name]
-    for switch in network.switches:
+    for switch, (main_point, side_point) in switches_with_points(network):
         main, side = switch.main_track, switch.side_track
-        points = switch_points(network, switch)
-        if points is None or main is None or side is None:
+        if main is None or side is None or main.dir not in ("+", "-") or side.dir not in ("+", "-"):
             continue
-        if main.dir not in ("+", "-") or side.dir not in ("+", "-"):
-            continue
-        main_point, side_point = points
         if main_point.distance_to(side_point) > settings[TOLERANCE.name] + S_TOLERANCE:
             continue  # SW011's defect: directions at two places say nothing
         entering = main_point.direction(main.dir)

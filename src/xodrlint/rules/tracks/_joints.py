@@ -45,10 +45,20 @@ class Joint(NamedTuple):
         )
 
 
-def joints(network: RailNetwork) -> Iterator[Joint]:
+def joints(network: RailNetwork) -> list[Joint]:
     """Each joint between two roads with a rail or tram lane, once: on the link of the road
     that comes first in the document when both name each other. Joints whose track points
-    cannot be evaluated (no usable plan view, an unreadable lane) are left out."""
+    cannot be evaluated (no usable plan view, an unreadable lane) are left out. Worked
+    out once per file: TR001 and TR002 judge the same joints."""
+    return network.shared(_EveryJoint).joints
+
+
+class _EveryJoint:
+    def __init__(self, network: RailNetwork) -> None:
+        self.joints = list(_find_joints(network))
+
+
+def _find_joints(network: RailNetwork) -> Iterator[Joint]:
     from xodrlint.geometry.tracks import TrackGeometry  # loaded only for a railway's links
 
     seen: set[frozenset[tuple[int, str]]] = set()
