@@ -1,9 +1,12 @@
-"""Validation in a forked child: the same findings as in one process, and a dead child
-costs nothing but time."""
+"""Validation beside the rules, in a thread or a forked child: the same findings as in
+one thread, a dead child costs nothing but time, and a thread's error reaches the caller."""
 
 from __future__ import annotations
 
 import os
+import threading
+from collections.abc import Callable
+from pathlib import Path
 
 import pytest
 
@@ -34,6 +37,45 @@ def test_a_dead_child_means_the_parent_does_the_work(monkeypatch: pytest.MonkeyP
     assert background.start(task, size=1).result() == 42
 
 
+def test_a_thread_safe_task_runs_in_a_thread_of_this_process(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(background, "MIN_BYTES", 0)
+    caller = threading.current_thread()
+    pending = background.start(
+        lambda: (os.getpid(), threading.current_thread()), size=1, thread_safe=True
+    )
+    pid, thread = pending.result()
+    assert pid == os.getpid() and thread is not caller
+
+
+def test_a_threads_error_is_raised_where_the_result_is_asked_for(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(background, "MIN_BYTES", 0)
+
+    def task() -> int:
+        raise ValueError("bad schema")
+
+    pending = background.start(task, size=1, thread_safe=True)
+    with pytest.raises(ValueError, match="bad schema"):
+        pending.result()
+
+
+@pytest.mark.parametrize("size_and_switch", ["small", "switched off"])
+def test_small_documents_and_the_switch_keep_the_work_in_the_caller(
+    monkeypatch: pytest.MonkeyPatch, size_and_switch: str
+) -> None:
+    size = background.MIN_BYTES * 10
+    if size_and_switch == "small":
+        size = background.MIN_BYTES - 1
+    else:
+        monkeypatch.setenv(background.ENV, "0")
+    caller = threading.current_thread()
+    pending = background.start(threading.current_thread, size=size, thread_safe=True)
+    assert pending.result() is caller
+
+
 def test_small_documents_and_the_switch_keep_one_process(monkeypatch: pytest.MonkeyPatch) -> None:
     assert not background.can_fork(background.MIN_BYTES - 1)
     monkeypatch.setenv(background.ENV, "0")
@@ -42,16 +84,36 @@ def test_small_documents_and_the_switch_keep_one_process(monkeypatch: pytest.Mon
 
 @needs_shared
 @pytest.mark.parametrize("name", ["broken.xodr", "two-findings.xodr", "clean.xodr"])
-def test_forked_validation_gives_the_same_findings(
-    name: str, monkeypatch: pytest.MonkeyPatch
+@pytest.mark.parametrize(
+    ("schema", "beside"),
+    [
+        (SHARED_SCHEMAS, "thread"),  # libxml2 on the whole document releases the GIL
+        (None, "fork"),  # the built-in schema validates subtrees: never in a thread
+    ],
+)
+def test_validation_beside_the_rules_gives_the_same_findings(
+    name: str, schema: Path | None, beside: str, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     path = REPO / "examples" / name
-    linter = Linter(default_registry(), LintOptions(schema=SHARED_SCHEMAS))
-    alone = linter.lint_path(path)
+    alone = Linter(default_registry(), LintOptions(schema=schema)).lint_path(path)
     monkeypatch.setattr(background, "MIN_BYTES", 0)
-    forked = Linter(default_registry(), LintOptions(schema=SHARED_SCHEMAS)).lint_path(path)
-    assert forked.findings == alone.findings
-    assert forked.schema == alone.schema
+    used: list[str] = []
+    in_thread, fork = background._in_thread, os.fork
+
+    def spied_thread(task: Callable[[], object]) -> background.Pending[object]:
+        used.append("thread")
+        return in_thread(task)
+
+    def spied_fork() -> int:
+        used.append("fork")
+        return fork()
+
+    monkeypatch.setattr(background, "_in_thread", spied_thread)
+    monkeypatch.setattr(os, "fork", spied_fork)
+    beside_rules = Linter(default_registry(), LintOptions(schema=schema)).lint_path(path)
+    assert used == [beside]
+    assert beside_rules.findings == alone.findings
+    assert beside_rules.schema == alone.schema
 
 
 def test_no_fork_while_other_threads_run() -> None:

@@ -233,7 +233,7 @@ class Linter:
         problems: dict[str, list[Hit]] = {code: list(hits) for code, hits in doc.problems.items()}
         schema_label, builtin = None, False
         fatal = any(code in problems for code in FATAL_CODES)
-        # A large document validates in a forked child while the model and the railroad
+        # A large document validates in a thread (or a child) while the model and the railroad
         # rules run here; the document rules report the stages' problems afterwards.
         pending = self._validators.start(doc) if not fatal and SCHEMA_RULE in self._codes else None
         stamped: list[_Stamped] = []

@@ -1,7 +1,7 @@
 """Stage 2, validation: a document against the official XSD of the version it declares.
 
 - :mod:`~xodrlint.validation.validators`: the stage itself; picks, compiles and runs the
-  validator for a document (in a forked child when the document is large);
+  validator for a document (beside the rules when the document is large);
 - :mod:`~xodrlint.validation.sets`: where the schema set for a version comes from
   (``--schema``, ``XODRLINT_SCHEMA_PATH``, the user data folder, the built-in schema);
 - :mod:`~xodrlint.validation.source`: a set's files, read once;

@@ -60,6 +60,9 @@ def _selector(identity: etree._Element) -> str:
 class Libxml2Validator:
     """An XSD 1.0 schema set compiled by libxml2."""
 
+    #: libxml2 reads a whole document with the GIL released (see ``workers.background``)
+    thread_safe = True
+
     def __init__(self, entry: Path) -> None:
         documents = read_schema_source(entry).trees
         fix_known_schema_bugs(documents[0].getroot())
@@ -77,6 +80,10 @@ class Libxml2Validator:
 
 class BuiltinRailroadValidator:
     """Our railroad schema, applied to each ``road/railroad`` and ``station`` subtree."""
+
+    #: lxml validates a subtree by re-parenting its children for the time being: another
+    #: thread walking the tree meanwhile would see the stand-in parent
+    thread_safe = False
 
     def __init__(self, schema: SchemaSet) -> None:
         self._minor = schema.version[1] if schema.version else FIRST_RAILROAD_MINOR

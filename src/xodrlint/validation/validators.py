@@ -2,8 +2,9 @@
 
 :class:`SchemaValidators` finds the schema set a document's declared version asks for
 (:mod:`~xodrlint.validation.sets`), compiles it once per process, and starts validation,
-in a forked child for a large document. OpenDRIVE 1.1 to 1.7 schemas are XSD 1.0 and run
-in libxml2 (:mod:`~xodrlint.validation.libxml2`); 1.8 and 1.9 are XSD 1.1
+beside the rules for a large document (in a thread, or a forked child for Python work).
+OpenDRIVE 1.1 to 1.7 schemas are XSD 1.0 and run in libxml2
+(:mod:`~xodrlint.validation.libxml2`); 1.8 and 1.9 are XSD 1.1
 (:mod:`~xodrlint.validation.xsd11`): libxml2 runs their XSD 1.0 form and the 1.1-only
 checks are added (with xmlschema, imported only then). Without an official schema, the
 built-in railroad schema checks each ``road/railroad`` and ``station`` subtree. Every
@@ -30,6 +31,10 @@ class SchemaCheck(NamedTuple):
 
 
 class Validator(Protocol):
+    #: :meth:`hits` only reads the document and spends its time in libxml2, which
+    #: releases the GIL: it may run in a thread beside the rules.
+    thread_safe: bool
+
     def hits(self, doc: Document) -> Iterator[Hit]: ...
 
 
@@ -50,8 +55,8 @@ class SchemaValidators:
         return self._found[version]
 
     def start(self, doc: Document) -> Pending[SchemaCheck | None]:
-        """Begin validating ``doc``: a large document validates in a forked child while
-        the caller runs the rules; :meth:`Pending.result` gives the check."""
+        """Begin validating ``doc``: a large document validates in a thread or a forked
+        child while the caller runs the rules; :meth:`Pending.result` gives the check."""
         schema = self.schema_for(doc)
         if schema is None or doc.tree is None:
             return Pending(lambda: None)
@@ -61,8 +66,12 @@ class SchemaValidators:
         # xmlschema model) has the child run the first part only: the caller finishes the
         # rest after its rules, so both cores stay busy.
         split = getattr(validator, "stages", None)
-        first, finish = split(doc) if split else ((lambda: list(validator.hits(doc))), list)
-        hits = background.start_hits(first, root, len(doc.data))
+        if split is not None:
+            first, finish, thread_safe = split(doc)
+        else:
+            first, finish = (lambda: list(validator.hits(doc))), list
+            thread_safe = validator.thread_safe
+        hits = background.start_hits(first, root, len(doc.data), thread_safe=thread_safe)
         return Pending(lambda: SchemaCheck(schema, tuple(finish(hits.result()))))
 
     def prepare(self, doc: Document) -> None:

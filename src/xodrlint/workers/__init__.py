@@ -1,7 +1,7 @@
 """Processes: work that runs beside or instead of the calling process.
 
-- :mod:`~xodrlint.workers.background`: one task in a forked child while the caller goes
-  on (schema validation beside the rules); knows nothing of linting but hits;
+- :mod:`~xodrlint.workers.background`: one task in a thread or a forked child while the
+  caller goes on (schema validation beside the rules); knows nothing of linting but hits;
 - :mod:`~xodrlint.workers.forkpool`: a pool of forked workers, each handed its next
   piece by the parent; knows nothing of linting at all;
 - :mod:`~xodrlint.workers.batch`: many files linted over worker processes, reports in

@@ -1,12 +1,20 @@
-"""Work that runs beside the rules: schema validation in a forked child process.
+"""Work that runs beside the rules: schema validation in a thread or a forked child.
 
-libxml2 validates without releasing Python's GIL, so a thread cannot overlap it with the
-rules. A forked child can: it shares the parsed tree copy-on-write, validates it on the
-second core, and sends back plain values (picklable error entries) while the parent
-builds the model and runs the rules. On a 20 MB map that hides most of the rules' time.
+lxml releases Python's GIL while libxml2 validates a whole document, so a thread
+overlaps that validation with the model and the rules at no cost: no copy of the tree,
+no pickling, and no copy-on-write page faults, which a forked child causes on every page
+of the tree the parent touches after the fork (on a 20 MB map the thread made the whole
+run 10% faster than the fork). A task may run in a thread only when it reads the tree
+and spends its time in such C code (``thread_safe``): lxml validates a *subtree* by
+pointing its children at a stand-in root for the time of the validation, which another
+thread walking the tree would see.
 
-Only large documents are worth a fork; without ``os.fork`` (Windows), or when the child
-fails for any reason, the work simply runs in the parent.
+Other work that is worth running beside the rules (XSD 1.1 checks in Python) runs in a
+forked child: it shares the parsed tree copy-on-write, computes on the second core, and
+sends back plain values (picklable error entries). Without ``os.fork`` (Windows), or when
+the child fails for any reason, the work simply runs in the caller.
+
+Only large documents are worth either.
 """
 
 from __future__ import annotations
@@ -15,7 +23,7 @@ import os
 import sys
 import threading
 from collections.abc import Callable
-from typing import Final, Generic, TypeVar
+from typing import Final, Generic, TypeVar, cast
 
 from lxml import etree
 
@@ -56,12 +64,15 @@ def can_fork(size: int) -> bool:
     )
 
 
-def start(task: Callable[[], _T], size: int) -> Pending[_T]:
-    """Run ``task`` in a forked child when ``size`` makes it worth it, else on demand.
+def start(task: Callable[[], _T], size: int, *, thread_safe: bool = False) -> Pending[_T]:
+    """Run ``task`` beside the caller when ``size`` makes it worth it, else on demand:
+    in a thread when it is ``thread_safe`` (see the module's doc), else in a forked child.
 
-    ``task`` must return picklable values and must not depend on anything the parent
-    changes afterwards (the child sees the parent as it was at the fork).
+    For a child, ``task`` must return picklable values and must not depend on anything
+    the parent changes afterwards (the child sees the parent as it was at the fork).
     """
+    if thread_safe and size >= MIN_BYTES and os.environ.get(ENV, "1") != "0":
+        return _in_thread(task)
     if not can_fork(size):
         return Pending(task)
     import pickle  # here: only large documents fork, and the import costs small ones 3 ms
@@ -87,6 +98,29 @@ def start(task: Callable[[], _T], size: int) -> Pending[_T]:
     return Pending(lambda: _collect(pid, read_end, task))
 
 
+def _in_thread(task: Callable[[], _T]) -> Pending[_T]:
+    outcome: list[tuple[bool, object]] = []
+
+    def run() -> None:
+        try:
+            outcome.append((True, task()))
+        except BaseException as error:  # handed to the caller, who would have raised it
+            outcome.append((False, error))
+
+    # a daemon: an interrupted run exits without waiting for libxml2 to finish
+    worker = threading.Thread(target=run, name="xodrlint-validation", daemon=True)
+    worker.start()
+
+    def wait() -> _T:
+        worker.join()
+        done, value = outcome[0]
+        if not done:
+            raise cast(BaseException, value)
+        return cast(_T, value)
+
+    return Pending(wait)
+
+
 def _collect(pid: int, read_end: int, task: Callable[[], _T]) -> _T:
     with os.fdopen(read_end, "rb") as stream:
         payload = stream.read()
@@ -106,11 +140,13 @@ SentHit = tuple[tuple[int, ...] | None, str, int | None, int | None, str]
 
 
 def start_hits(
-    task: Callable[[], list[Hit]], root: etree._Element, size: int
+    task: Callable[[], list[Hit]], root: etree._Element, size: int, *, thread_safe: bool = False
 ) -> Pending[list[Hit]]:
-    """:func:`start` for a task that yields hits about ``root``'s tree: the child sends
+    """:func:`start` for a task that yields hits about ``root``'s tree: a child sends
     each hit's element as its position in the tree, and the parent finds it again there
-    (the trees are the same: the child is a fork)."""
+    (the trees are the same: the child is a fork); a thread hands over the hits."""
+    if thread_safe:
+        return start(task, size, thread_safe=True)
     sent = start(lambda: send_hits(task(), root), size)
     return Pending(lambda: receive_hits(sent.result(), root))
 

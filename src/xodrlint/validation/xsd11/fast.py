@@ -16,10 +16,10 @@ also asks for. :class:`FastXsd11Validator` runs one document:
 Anything the fast path cannot reproduce raises
 :class:`~xodrlint.validation.xsd11.NeedsFull`, and that document is validated in full.
 
-**Two stages for a forked child** (:meth:`FastXsd11Validator.stages`): the form's
+**Two stages, the first beside the rules** (:meth:`FastXsd11Validator.stages`): the form's
 cache also records, from one strict xmlschema build of the set, where an element
 with type alternatives can stand. A document with no element there needs no type
-marks, so libxml2 runs alone in the child. The assertions need no libxml2 result:
+marks, so libxml2 runs alone in a thread. The assertions need no libxml2 result:
 on a large document a second child loads the xmlschema model and checks them, while
 the caller runs its rules; the caller only merges, and loads the model itself only
 when libxml2 skipped a subtree. The model (built with the meta-schema check that
@@ -75,6 +75,8 @@ _Stage = tuple[str, str, list[background.SentHit]]
 class HitSource(Protocol):
     """A compiled libxml2 validator (:class:`~xodrlint.validation.libxml2.Libxml2Validator`)."""
 
+    thread_safe: bool
+
     def hits(self, doc: Document) -> Iterator[Hit]: ...
 
 
@@ -97,6 +99,10 @@ def xsd11_validator(entry: Path, libxml2: Callable[[Path], HitSource]) -> HitSou
 
 class FastXsd11Validator:
     """libxml2 on the XSD 1.0 form, then the XSD 1.1-only checks (see the module doc)."""
+
+    #: whole, it marks elements while libxml2 runs (see :meth:`stages` for the part that
+    #: may run in a thread)
+    thread_safe = False
 
     def __init__(self, entry: Path, compiled: HitSource, form: Xsd10Form) -> None:
         self.entry = entry
@@ -130,26 +136,30 @@ class FastXsd11Validator:
             found = list(self.full.hits(doc))
         yield from found
 
-    def stages(self, doc: Document) -> tuple[Callable[[], list[Hit]], Finish]:
+    def stages(self, doc: Document) -> tuple[Callable[[], list[Hit]], Finish, bool]:
         """The validation in two parts, for a caller that runs the first one elsewhere (a
-        forked child) while it does other work: libxml2 first, then the 1.1-only checks on
+        thread) while it does other work: libxml2 first, then the 1.1-only checks on
         libxml2's hits. Split only when libxml2 needs no type marks, so the first part
         needs no xmlschema model: no element of the document stands where the schema
-        allows type alternatives. Otherwise all of it is the first part.
+        allows type alternatives. Otherwise all of it is the first part. The third value
+        says whether the first part may run in a thread: libxml2 alone may, the whole
+        validation may not (it marks elements with ``xsi:type`` while libxml2 runs).
 
         The assertions of a split validation need no libxml2 result either: on a large
-        document they run in a forked child of their own, beside libxml2's child and the
+        document they run in a forked child of their own, beside libxml2's thread and the
         rules, and the caller, needing no xmlschema model for a valid document, never
         loads one."""
         assert doc.tree is not None
         root = doc.tree.getroot()
         sites = self.form.alternative_sites
         if sites is None or self._unsupported is not None or holds_a_site(doc, root, sites):
-            return (lambda: list(self.hits(doc))), list
+            return (lambda: list(self.hits(doc))), list, False
+        # forked before the caller starts libxml2's thread: no fork while threads run
         checks = background.start(lambda: self._assertion_stage(doc, root), len(doc.data))
         return (
             (lambda: list(self._libxml2.hits(doc))),
             lambda raw: self._finish(doc, raw, checks.result()),
+            True,
         )
 
     def _assertion_stage(self, doc: Document, root: etree._Element) -> _Stage:

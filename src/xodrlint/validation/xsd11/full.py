@@ -39,6 +39,9 @@ _MISSING_CHILD: Final = ("is not complete", "Unexpected child")
 
 
 class Xsd11Validator:
+    #: xmlschema is Python: a thread would wait for the GIL (a forked child does not)
+    thread_safe = False
+
     def __init__(self, entry: Path, *, schema_checked: bool = False) -> None:
         """``schema_checked``: these very files passed a strict build before (the fast
         path's cache says so), so the meta-schema check, 80% of a build, is skipped.
