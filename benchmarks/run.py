@@ -13,6 +13,8 @@ median of its per-round ratios (a round runs both commands back to back):
 - M:  xodrlint's peak RSS on the 20 MB 1.7 file / xmllint's
 - S:  xodrlint on 40 MB / on 20 MB
 - B:  200 small files with ``-j 1`` / with ``-j 2`` (a speed-up)
+- G:  xodrlint on the 20 MB 1.7 network / the same without the track-geometry rules
+      (SW011, SW012, TR001, TR002; issue 15: they may add less than 5% to the run)
 
 pip compiles bytecode when it installs a package; an editable install in an environment
 with PYTHONDONTWRITEBYTECODE does not, so the script compiles xodrlint's first.
@@ -36,7 +38,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from generate import GENERATOR_VERSION, write_network
 
 MB = 1024 * 1024
-TARGETS = {"R1": 1.5, "R2": 2.0, "R3": 1.5, "M": 1.5, "S": 2.2, "B": 1.6}
+TARGETS = {"R1": 1.5, "R2": 2.0, "R3": 1.5, "M": 1.5, "S": 2.2, "B": 1.6, "G": 1.05}
+#: The rules that evaluate plan-view geometry, left out for the G figure's baseline.
+GEOMETRY_RULES = "SW011,SW012,TR001,TR002"
 
 
 @dataclass
@@ -116,6 +120,7 @@ def commands(files: dict[str, Path], schemas: Path) -> list[Command]:
             [xmllint, "--noout", "--schema", str(_entry(schemas, "1.7")), str(files["n17"])],
         ),
         Command("xodrlint 1.7", [*check, str(files["n17"])], env),
+        Command("1.7 no geometry", [*check, "--ignore", GEOMETRY_RULES, str(files["n17"])], env),
         Command("xodrlint 1.8", [*check, str(files["n18"])], env),
         Command("xodrlint 1.7 x2", [*check, str(files["n17x2"])], env),
         Command("python imports", [sys.executable, "-c", "import typer, rich.console, lxml.etree"]),
@@ -141,6 +146,7 @@ def report(runs: Sequence[Command]) -> dict[str, float]:
         "M": ratio("xodrlint 1.7", "xmllint 1.7", "peak_kb"),
         "S": ratio("xodrlint 1.7 x2", "xodrlint 1.7"),
         "B": ratio("batch -j 1", "batch -j 2"),
+        "G": ratio("xodrlint 1.7", "1.7 no geometry"),
     }
     print(f"{'command':<18} {'median s':>9} {'peak MB':>8}   runs (s)")
     for c in runs:

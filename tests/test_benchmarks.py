@@ -72,7 +72,7 @@ def test_each_ratio_is_the_median_of_its_rounds(capsys: pytest.CaptureFixture[st
     run = _runner()
     names = [
         "xmllint 1.7", "xodrlint 1.7", "xodrlint 1.8", "xodrlint 1.7 x2",
-        "python imports", "xodrlint 0.2 MB", "batch -j 1", "batch -j 2",
+        "python imports", "xodrlint 0.2 MB", "batch -j 1", "batch -j 2", "1.7 no geometry",
     ]  # fmt: skip
     commands = [run.Command(name, []) for name in names]
     for command in commands:
@@ -81,4 +81,7 @@ def test_each_ratio_is_the_median_of_its_rounds(capsys: pytest.CaptureFixture[st
         command.peak_kb = [100, 100, 100, 100, 100]
     figures = run.report(commands)
     assert figures["R2"] == figures["R3"] == figures["B"] == 1.5
-    assert "R2    1.50   target <= 2.0   met" in capsys.readouterr().out
+    assert figures["G"] == 1.0
+    out = capsys.readouterr().out
+    assert "R2    1.50   target <= 2.0   met" in out
+    assert "G     1.00   target <= 1.05   met" in out
