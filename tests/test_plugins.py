@@ -10,13 +10,13 @@ from pathlib import Path
 
 import pytest
 
-from xodrlint import plugins
+from xodrlint import cache, plugins
 
 
 def test_cache_is_written_then_used(tmp_path: Path) -> None:
     first = plugins.installed("xodrlint.rules")
     assert {p.name for p in first} >= {"document", "switches", "partners", "stations", "lanes"}
-    cached = json.loads((plugins.cache_path()).read_text("utf-8"))
+    cached = json.loads(cache.read(plugins.cache_path()) or b"")
     assert cached["entries"][0]["groups"]["xodrlint.rules"]
     # a process like the last one reads the cache and never imports importlib.metadata
     # (pytest's own sys.path differs from a plain interpreter's: run two of those)
@@ -39,9 +39,9 @@ def test_a_changed_environment_is_scanned_again(
 ) -> None:
     plugins.installed("xodrlint.rules")
     path = plugins.cache_path()
-    stale = json.loads(path.read_text("utf-8"))
+    stale = json.loads(cache.read(path) or b"")
     stale["entries"][0]["groups"]["xodrlint.rules"] = [["ghost", "nowhere:nothing"]]
-    path.write_text(json.dumps(stale), "utf-8")
+    assert cache.write(path, json.dumps(stale).encode())
     assert [p.name for p in plugins.installed("xodrlint.rules")] == ["ghost"]  # trusted
     extra = tmp_path / "site"
     extra.mkdir()
@@ -96,4 +96,4 @@ def test_a_cache_of_an_older_format_is_replaced(tmp_path: Path) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps({"format": 1, "key": [], "groups": {}}), "utf-8")
     assert plugins.installed("xodrlint.rules")
-    assert json.loads(path.read_text("utf-8"))["format"] == plugins.FORMAT
+    assert json.loads(cache.read(path) or b"")["format"] == plugins.FORMAT

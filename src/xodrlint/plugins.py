@@ -22,11 +22,11 @@ import zlib
 from pathlib import Path
 from typing import Any, Final, NamedTuple
 
-from xodrlint.files import write_atomically
+from xodrlint import cache
 
 GROUPS: Final = ("xodrlint.rules", "xodrlint.formatters")
-CACHE_ENV: Final = "XODRLINT_CACHE_DIR"
-FORMAT: Final = 2
+CACHE_ENV: Final = cache.ENV
+FORMAT: Final = 3
 #: Keys kept per environment: ways of starting xodrlint there (console script, ``-m``
 #: from a few folders).
 KEYS_KEPT: Final = 4
@@ -49,12 +49,7 @@ class Plugin(NamedTuple):
 
 def cache_dir() -> Path:
     """The user cache folder (``XODRLINT_CACHE_DIR`` overrides it)."""
-    override = os.environ.get(CACHE_ENV)
-    if override:
-        return Path(override)
-    from platformdirs import user_cache_path
-
-    return user_cache_path("xodrlint")
+    return cache.root()
 
 
 def cache_path() -> Path:
@@ -67,18 +62,48 @@ def installed(group: str) -> list[Plugin]:
     """The entry points of ``group`` that installed distributions declare."""
     key = _environment_key()
     path = cache_path()
-    entries: list[dict[str, Any]] = []  # JSON, checked as it is used
-    with contextlib.suppress(OSError, ValueError, TypeError, KeyError, AttributeError):
-        cached = json.loads(path.read_text(encoding="utf-8"))
-        if cached["format"] == FORMAT:
-            entries = [entry for entry in cached["entries"] if isinstance(entry, dict)]
-            for entry in entries:
-                if entry["key"] == key:
-                    return [Plugin(name, value, group) for name, value in entry["groups"][group]]
+    entries = _cached_entries(path)
+    for entry in entries:
+        if entry["key"] == key:
+            return [Plugin(name, value, group) for name, value in entry["groups"].get(group, [])]
     groups = _scan()
     kept = [{"key": key, "groups": groups}, *entries][:KEYS_KEPT]
-    _store(path, {"format": FORMAT, "entries": kept})
+    cache.write(path, json.dumps({"format": FORMAT, "entries": kept}).encode())
     return [Plugin(name, value, group) for name, value in groups.get(group, [])]
+
+
+def _cached_entries(path: Path) -> list[dict[str, Any]]:
+    """The cache's entries when the file is trusted (see :mod:`xodrlint.cache`) and each
+    entry has the shape :func:`installed` writes; otherwise none (the scan rebuilds)."""
+    content = cache.read(path)
+    if content is None:
+        return []
+    try:
+        cached = json.loads(content)
+    except (ValueError, RecursionError):
+        return []
+    if not isinstance(cached, dict) or cached.get("format") != FORMAT:
+        return []  # an older release's cache: replaced without a word
+    entries = cached.get("entries")
+    if not isinstance(entries, list) or not all(_well_formed(entry) for entry in entries):
+        cache.warn(path, f"{path} holds entries of another shape")
+        return []
+    return entries
+
+
+def _well_formed(entry: object) -> bool:
+    if not isinstance(entry, dict) or not isinstance(entry.get("key"), list):
+        return False
+    groups = entry.get("groups")
+    return isinstance(groups, dict) and all(
+        isinstance(name, str)
+        and isinstance(points, list)
+        and all(
+            isinstance(point, list) and len(point) == 2 and all(isinstance(p, str) for p in point)
+            for point in points
+        )
+        for name, points in groups.items()
+    )
 
 
 def _environment_key() -> list[list[object]]:
@@ -96,10 +121,3 @@ def _scan() -> dict[str, list[list[str]]]:
         group: sorted([point.name, point.value] for point in entry_points(group=group))
         for group in GROUPS
     }
-
-
-def _store(path: Path, document: dict[str, object]) -> None:
-    """Write the cache whole, or not at all (a read-only home is no error)."""
-    with contextlib.suppress(OSError):
-        path.parent.mkdir(parents=True, exist_ok=True)
-        write_atomically(path, json.dumps(document).encode())

@@ -26,8 +26,7 @@ from typing import Any, Final
 
 from lxml import etree
 
-from xodrlint import plugins
-from xodrlint.files import write_atomically
+from xodrlint import cache, plugins
 from xodrlint.validation.sets import SchemaLoadError
 from xodrlint.validation.source import XS, SchemaSource, read_schema_source
 
@@ -237,7 +236,7 @@ def xsd10_form(entry: Path) -> Iterator[Xsd10Form]:
     derivation = derive_xsd10(tree.getroot() for _, _, tree in source.files)
     written = None
     with contextlib.suppress(OSError):
-        cache_dir().mkdir(parents=True, exist_ok=True)  # no cache, no point in checking
+        cache.make_folder(cache_dir())  # no cache, no point in checking
         _check_strictly(entry, derivation)
         _write_form(folder, source, derivation)
         written = _read_form(folder, source, key)
@@ -255,24 +254,81 @@ def xsd10_form(entry: Path) -> Iterator[Xsd10Form]:
 def _read_form(
     folder: Path, source: SchemaSource, key: str, *, cached: bool = True
 ) -> Xsd10Form | None:
+    """The form in ``folder``, or ``None`` when there is none or it is not to be used:
+    not trusted (see :mod:`xodrlint.cache`), a manifest of another shape, or a file
+    whose content is not what was written (each case said once on stderr)."""
+    manifest_path = folder / MANIFEST
+    reason = cache.distrust(manifest_path) if cached else None
+    if reason is not None:
+        cache.warn(manifest_path, reason)
+        return None
     try:
-        manifest = json.loads((folder / MANIFEST).read_text("utf-8"))
-    except (OSError, ValueError):
+        manifest = json.loads(manifest_path.read_text("utf-8"))
+    except (OSError, ValueError, RecursionError):
+        return None
+    shape = _manifest_shape(manifest)
+    if shape is not None:
+        cache.warn(manifest_path, f"{manifest_path} {shape}")
+        return None
+    altered = _altered_file(folder, manifest["files"])
+    if altered is not None:
+        cache.warn(manifest_path, f"{altered} does not hold what was written")
         return None
     entry = folder / source.relative(source.entry)
-    unsupported = tuple(str(item) for item in manifest.get("unsupported", ()))
-    if not unsupported and not entry.is_file():
+    unsupported = tuple(manifest["unsupported"])
+    if not unsupported and source.relative(source.entry) not in manifest["files"]:
         return None
     return Xsd10Form(
         entry=None if unsupported else entry,
         key=key,
-        asserts=int(manifest.get("asserts", 0)),
-        alternatives=int(manifest.get("alternatives", 0)),
+        asserts=manifest["asserts"],
+        alternatives=manifest["alternatives"],
         unsupported=unsupported,
         cached=cached,
-        schema_checked=manifest.get("schema_checked") is True,
+        schema_checked=manifest["schema_checked"] is True,
         alternative_sites=_sites_of(manifest.get("alternative_sites")),
     )
+
+
+#: The manifest's fields and the types :func:`_write_files` gives them.
+_MANIFEST_FIELDS: Final = {
+    "asserts": int,
+    "alternatives": int,
+    "unsupported": list,
+    "schema_checked": bool,
+    "files": dict,
+}
+
+
+def _manifest_shape(manifest: object) -> str | None:
+    """What is wrong with the manifest's shape, or ``None``."""
+    if not isinstance(manifest, dict):
+        return "is not a JSON object"
+    for name, kind in _MANIFEST_FIELDS.items():
+        value = manifest.get(name)
+        if not isinstance(value, kind) or (kind is int and isinstance(value, bool)):
+            return f"has no {kind.__name__} '{name}'"
+    if not all(isinstance(item, str) for item in manifest["unsupported"]):
+        return "lists reasons that are not strings"
+    files = manifest["files"]
+    if not all(isinstance(k, str) and isinstance(v, str) for k, v in files.items()):
+        return "records file hashes of another shape"
+    return None
+
+
+def _altered_file(folder: Path, hashes: dict[str, str]) -> Path | None:
+    """The first form file whose content is not the one recorded, or that is missing,
+    lies outside the folder, or is not to be trusted."""
+    for relative, expected in hashes.items():
+        path = folder / relative
+        if folder.resolve() not in path.resolve().parents or cache.distrust(path) is not None:
+            return path
+        try:
+            if cache.digest(path.read_bytes()) != expected:
+                return path
+        except OSError:
+            return path
+    return None
 
 
 def full_validator(entry: Path, form: Xsd10Form) -> Any:
@@ -285,12 +341,20 @@ def full_validator(entry: Path, form: Xsd10Form) -> Any:
     if not (form.cached and form.schema_checked):
         return Xsd11Validator(entry, schema_checked=form.schema_checked)
     path = cache_dir() / form.key / _pickle_name()
-    # a damaged file, or one another release wrote, can raise almost anything: build again
-    with contextlib.suppress(Exception):
-        return Xsd11Validator.of_schema(pickle.loads(path.read_bytes()))
+    # unpickled only from a trusted file with the hash it was written with (a pickle
+    # runs code); of another type, or damaged in a way the hash missed: build again
+    content = cache.read(path)
+    if content is not None:
+        with contextlib.suppress(Exception):
+            from xmlschema.validators import XMLSchemaBase
+
+            schema = pickle.loads(content)
+            if isinstance(schema, XMLSchemaBase) and schema.XSD_VERSION == "1.1":
+                return Xsd11Validator.of_schema(schema)
+        cache.warn(path, f"{path} does not hold an XSD 1.1 schema model")
     validator = Xsd11Validator(entry, schema_checked=True)
-    with contextlib.suppress(OSError, pickle.PicklingError, RecursionError, TypeError):
-        write_atomically(path, pickle.dumps(validator.schema, pickle.HIGHEST_PROTOCOL))
+    with contextlib.suppress(pickle.PicklingError, RecursionError, TypeError):
+        cache.write(path, pickle.dumps(validator.schema, pickle.HIGHEST_PROTOCOL))
     return validator
 
 
@@ -350,7 +414,15 @@ def _alternative_sites(schema: Any) -> set[tuple[str, str]]:
 
 
 def _write_form(folder: Path, source: SchemaSource, derivation: Derivation) -> None:
-    folder.parent.mkdir(parents=True, exist_ok=True)
+    cache.make_folder(folder.parent)
+    if cache.distrust(folder.parent) is not None:
+        raise PermissionError(f"{folder.parent} is not to be trusted")
+    if folder.exists() and cache.distrust(folder) is None:
+        # our own form that did not pass (altered, of another shape): replaced, not kept
+        stale = Path(tempfile.mkdtemp(prefix=".stale-", dir=folder.parent))
+        with contextlib.suppress(OSError):
+            folder.rename(stale / "form")
+        shutil.rmtree(stale, ignore_errors=True)
     scratch = Path(tempfile.mkdtemp(prefix=".partial-", dir=folder.parent))
     try:
         _write_files(scratch, source, derivation)
@@ -366,10 +438,15 @@ def _write_form(folder: Path, source: SchemaSource, derivation: Derivation) -> N
 
 
 def _write_files(folder: Path, source: SchemaSource, derivation: Derivation) -> None:
+    hashes: dict[str, str] = {}
     for path, _, tree in source.files:
-        target = folder / source.relative(path)
-        target.parent.mkdir(parents=True, exist_ok=True)
-        target.write_bytes(etree.tostring(tree, xml_declaration=True, encoding="utf-8"))
+        relative = source.relative(path)
+        target = folder / relative
+        cache.make_folder(target.parent)
+        data = etree.tostring(tree, xml_declaration=True, encoding="utf-8")
+        target.write_bytes(data)
+        target.chmod(0o600)
+        hashes[relative] = cache.digest(data)
     manifest = {
         "derivation": DERIVATION_VERSION,
         "derived_from": str(source.entry),
@@ -379,5 +456,9 @@ def _write_files(folder: Path, source: SchemaSource, derivation: Derivation) -> 
         "unsupported": derivation.unsupported,
         "schema_checked": derivation.schema_checked,
         "alternative_sites": derivation.alternative_sites,
+        # what later runs verify before libxml2 reads the form: a form swapped for a
+        # permissive schema would lose findings without a word
+        "files": hashes,
     }
     (folder / MANIFEST).write_text(json.dumps(manifest, indent=1), "utf-8")
+    (folder / MANIFEST).chmod(0o600)
