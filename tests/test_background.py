@@ -128,3 +128,32 @@ def test_no_fork_while_other_threads_run() -> None:
     finally:
         release.set()
         other.join()
+
+
+@pytest.mark.parametrize(
+    ("attribute_type", "thread_safe"),
+    [("xs:string", True), ("xs:IDREF", False), ("xs:ID", False), ("my:QName", False)],
+)
+def test_a_set_whose_validation_writes_into_the_document_never_runs_in_a_thread(
+    tmp_path: Path, attribute_type: str, thread_safe: bool
+) -> None:
+    # libxml2 registers an IDREF in the document's tables through its string dictionary
+    # while another thread's tag lookups read that dictionary: a crash, so a fork
+    from xodrlint.validation.libxml2 import Libxml2Validator
+
+    schema = tmp_path / "set.xsd"
+    schema.write_text(
+        '<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema" xmlns:my="urn:x">'
+        '<xs:element name="OpenDRIVE"><xs:complexType>'
+        f'<xs:attribute name="a" type="{attribute_type.replace("my:", "xs:")}"/>'
+        "</xs:complexType></xs:element></xs:schema>"
+    )
+    assert Libxml2Validator(schema).thread_safe is thread_safe
+
+
+@needs_shared
+def test_the_official_schemas_may_run_in_a_thread() -> None:
+    from xodrlint.validation.libxml2 import Libxml2Validator
+
+    entry = next((SHARED_SCHEMAS / "1.7.0").glob("*core.xsd"))
+    assert Libxml2Validator(entry).thread_safe

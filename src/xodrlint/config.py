@@ -24,6 +24,8 @@ COMMAND_LINE: Final = "command line"
 #: Larger inputs are refused before they are read: far above any real map (the largest
 #: public networks are tens of MB), low enough that no input can exhaust the memory.
 DEFAULT_MAX_FILE_SIZE: Final = 2 * 1024**3
+#: Seconds a rule may run on one file unless ``rule-timeout`` says otherwise.
+DEFAULT_RULE_TIMEOUT: Final = 60.0
 
 
 class ConfigError(ValueError):
@@ -95,6 +97,8 @@ class Settings:
     rule_options: Mapping[str, float] = field(default_factory=dict)
     warn_unused_suppressions: bool = False
     max_file_size: int = DEFAULT_MAX_FILE_SIZE
+    rule_timeout: float = DEFAULT_RULE_TIMEOUT
+    """Seconds a rule may run on one file; 0: no limit."""
     base: Path = field(default_factory=Path.cwd)
     config_file: Path | None = None
     sources: Mapping[str, str] = field(default_factory=dict)
@@ -128,6 +132,7 @@ class Settings:
                 self.source_of("warn-unused-suppressions"),
             ),
             ("max-file-size", format_size(self.max_file_size), self.source_of("max-file-size")),
+            ("rule-timeout", self.rule_timeout, self.source_of("rule-timeout")),
         ]
         rows += [
             (name, value, self.source_of(name)) for name, value in sorted(self.rule_options.items())
@@ -170,6 +175,14 @@ def _number(value: object) -> float:
     if isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value):
         return float(value)
     raise TypeError("a finite number")
+
+
+def seconds(value: object) -> float:
+    """A time limit in seconds: a finite number, 0 or more (0: no limit)."""
+    number = _number(value)
+    if number < 0:
+        raise TypeError("a number of seconds, 0 or more (0: no limit)")
+    return number
 
 
 _SIZE: Final = re.compile(r"(\d+)\s*([kmgt]i?)?b?", re.IGNORECASE)
@@ -224,6 +237,7 @@ _READERS: Final[Mapping[str, _Reader]] = {
     "exclude": _strings,
     "warn-unused-suppressions": _boolean,
     "max-file-size": parse_size,
+    "rule-timeout": seconds,
 }
 
 
@@ -266,6 +280,7 @@ def settings_from(
         rule_options={name: float(values[name]) for name in options if name in values},  # type: ignore[arg-type]
         warn_unused_suppressions=bool(values.get("warn-unused-suppressions", False)),
         max_file_size=int(_get(values, "max-file-size", DEFAULT_MAX_FILE_SIZE)),
+        rule_timeout=float(_get(values, "rule-timeout", DEFAULT_RULE_TIMEOUT)),
         base=base,
         config_file=config.path if config is not None else None,
         sources=sources,

@@ -18,6 +18,7 @@ from typing import Final, NamedTuple
 
 from lxml import etree
 
+from xodrlint.config import DEFAULT_RULE_TIMEOUT
 from xodrlint.document import Document, load_bytes
 from xodrlint.files import NotRegularFile, read_regular_file
 from xodrlint.findings import (
@@ -33,6 +34,7 @@ from xodrlint.findings import (
 from xodrlint.messages import one_line
 from xodrlint.model import RailNetwork, build_network
 from xodrlint.registry import Registry
+from xodrlint.rule_guard import RuleTimeout, checked_hit, guarded
 from xodrlint.rules import Rule
 from xodrlint.suppress import (
     Suppressions,
@@ -77,6 +79,8 @@ class LintOptions(NamedTuple):
     """Keep withheld findings in the report (SARIF lists them as suppressed)."""
     warn_unused_suppressions: bool = False
     """Report suppression comments that withhold nothing (XL001)."""
+    rule_timeout: float | None = DEFAULT_RULE_TIMEOUT
+    """Seconds a rule may run on one file before it is stopped (``None``: no limit)."""
 
 
 def select_rules(registry: Registry, select: Sequence[str], ignore: Sequence[str]) -> list[Rule]:
@@ -274,13 +278,27 @@ class Linter:
         stamped: list[_Stamped],
         crashes: list[str],
     ) -> None:
+        timeout = self.options.rule_timeout
         for candidate in rules:
+            # whatever a rule does is at worst its own internal error on this file: the
+            # other rules' findings stand (see rule_guard)
             try:
-                hits = list(candidate(network, self._settings))
-            except Exception as error:  # a rule bug must not hide the other rules' findings
+                with guarded(timeout):
+                    produced = [
+                        self._stamp(doc, candidate, checked_hit(hit, doc.root))
+                        for hit in candidate(network, self._settings)
+                    ]
+            except KeyboardInterrupt:
+                raise
+            except RuleTimeout:
+                crashes.append(
+                    f"rule {candidate.code} stopped after {timeout:g} s on {doc.path} "
+                    "(--rule-timeout)"
+                )
+            except BaseException as error:  # SystemExit too: a rule does not end the run
                 crashes.append(f"rule {candidate.code} failed on {doc.path}: {error!r}")
-                continue
-            stamped.extend(self._stamp(doc, candidate, hit) for hit in hits)
+            else:
+                stamped.extend(produced)
 
     def _apply_suppressions(
         self, doc: Document, stamped: list[_Stamped], external: ExternalIgnores

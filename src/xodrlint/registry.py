@@ -6,6 +6,8 @@ load, or that reuses a code, is a warning; the other packs still run.
 
 from __future__ import annotations
 
+import contextlib
+import sys
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from types import ModuleType
@@ -60,10 +62,13 @@ def load_registry(points: Iterable[_Point] | None = None) -> Registry:
     warnings: list[str] = []
     for point in sorted(points, key=lambda p: (p.value.startswith("xodrlint.") is False, p.name)):
         try:
-            loaded = point.load()
-            pack = _rules_of(loaded)
-        except Exception as error:  # a broken plugin must not take the linter down
-            warnings.append(f"rule pack '{point.name}' ({point.value}) failed to load: {error}")
+            with contextlib.redirect_stdout(sys.stderr):  # a pack that prints on import
+                loaded = point.load()
+                pack = _rules_of(loaded)
+        except KeyboardInterrupt:
+            raise
+        except BaseException as error:  # a broken pack, or one calling sys.exit, is skipped
+            warnings.append(f"rule pack '{point.name}' ({point.value}) failed to load: {error!r}")
             continue
         for candidate in pack:
             if candidate.code in rules:

@@ -82,6 +82,7 @@ class CheckRequest(NamedTuple):
     show_suppressed: bool = False
     statistics: bool = False
     max_file_size: str | None = None
+    rule_timeout: float | None = None
 
 
 class UsageError(ValueError):
@@ -127,6 +128,7 @@ def _overrides(request: CheckRequest) -> dict[str, object]:
         "exclude": request.exclude,
         "warn-unused-suppressions": request.warn_unused_suppressions,
         "max-file-size": _max_file_size(request.max_file_size),
+        "rule-timeout": request.rule_timeout,
         **request.rule_options,
     }
 
@@ -235,6 +237,7 @@ def _linter(registry: Registry, settings: Settings, request: CheckRequest) -> Li
         rule_options=settings.rule_options,
         keep_suppressed=request.show_suppressed,
         warn_unused_suppressions=settings.warn_unused_suppressions,
+        rule_timeout=settings.rule_timeout or None,
     )
     # The command line exits without cleanup (cli.main): it never frees the last tree,
     # nor the linter holding it, which outlives the run in this slot (one linter at most,

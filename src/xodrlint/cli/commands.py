@@ -216,6 +216,15 @@ def check(
             rich_help_panel=_RUN,
         ),
     ] = None,
+    rule_timeout: Annotated[
+        float | None,
+        typer.Option(
+            min=0,
+            help="Stop a rule that runs longer than this many seconds on one file and "
+            "report it as an internal error (default 60; 0: no limit).",
+            rich_help_panel=_RUN,
+        ),
+    ] = None,
     rail_min_width: Annotated[
         float | None,
         typer.Option(
@@ -267,6 +276,7 @@ def check(
             show_suppressed=show_suppressed,
             statistics=statistics,
             max_file_size=max_file_size,
+            rule_timeout=rule_timeout,
         )
     )
     raise typer.Exit(code)

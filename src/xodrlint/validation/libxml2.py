@@ -52,6 +52,30 @@ def fix_known_schema_bugs(schema_root: etree._Element) -> None:
             keyref.set("refer", road_key)
 
 
+#: Built-in types whose validation writes into the validated document: ``ID`` and
+#: ``IDREF(S)`` register in the document's tables (an IDREF through the document's string
+#: dictionary, which another thread's tag lookups read: a crash), ``QName`` and
+#: ``NOTATION`` may add the ``xml`` namespace to it; ``ENTITY`` reads its DTD.
+_WRITING_TYPES: Final = frozenset(
+    {"ID", "IDREF", "IDREFS", "ENTITY", "ENTITIES", "NOTATION", "QName"}
+)
+_TYPE_REFERENCES: Final = ("type", "base", "itemType", "memberTypes")
+
+
+def writes_while_validating(schema_root: etree._Element) -> bool:
+    """Whether a schema document refers to a type whose validation writes into the
+    document (see :data:`_WRITING_TYPES`); a type derived from one refers to it in some
+    document of the set, so checking every document's references finds them all."""
+    for element in schema_root.iter(etree.Element):
+        for name in _TYPE_REFERENCES:
+            value = element.get(name)
+            if value and any(
+                reference.rpartition(":")[2] in _WRITING_TYPES for reference in value.split()
+            ):
+                return True
+    return False
+
+
 def _selector(identity: etree._Element) -> str:
     selector = identity.find(f"{{{XS}}}selector")
     return "" if selector is None else (selector.get("xpath") or "").strip()
@@ -60,13 +84,14 @@ def _selector(identity: etree._Element) -> str:
 class Libxml2Validator:
     """An XSD 1.0 schema set compiled by libxml2."""
 
-    #: libxml2 reads a whole document with the GIL released (see ``workers.background``)
-    thread_safe = True
-
     def __init__(self, entry: Path) -> None:
         documents = read_schema_source(entry).trees
         fix_known_schema_bugs(documents[0].getroot())
         self.catalog = TypeCatalog.from_documents(d.getroot() for d in documents)
+        #: libxml2 reads a whole document with the GIL released (see
+        #: ``workers.background``), unless the set has types whose validation writes
+        #: into the document
+        self.thread_safe = not any(writes_while_validating(d.getroot()) for d in documents)
         try:
             self._schema = etree.XMLSchema(documents[0])
         except etree.XMLSchemaParseError as error:

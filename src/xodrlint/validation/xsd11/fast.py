@@ -159,7 +159,7 @@ class FastXsd11Validator:
         return (
             (lambda: list(self._libxml2.hits(doc))),
             lambda raw: self._finish(doc, raw, checks.result()),
-            True,
+            self._libxml2.thread_safe,
         )
 
     def _assertion_stage(self, doc: Document, root: etree._Element) -> _Stage:

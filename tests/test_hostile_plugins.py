@@ -1,0 +1,112 @@
+"""A rule pack may do anything; the run survives it: each misbehaving rule becomes an
+internal error of that rule on that file, and every other finding is kept."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from xodrlint.engine import Linter, LintOptions
+from xodrlint.plugins import Plugin, installed
+from xodrlint.registry import ENTRY_POINT_GROUP, load_registry
+
+from .conftest import REPO
+
+CLEAN = REPO / "examples" / "clean.xodr"
+HOSTILE = Plugin("hostile", "tests.hostile_pack.rules", ENTRY_POINT_GROUP)
+EXITS_ON_IMPORT = Plugin("exits", "tests.hostile_pack.exits_on_import", ENTRY_POINT_GROUP)
+#: HX007 only prints: no error, but its print must not reach stdout
+FAILING = ["HX001", "HX002", "HX003", "HX004", "HX005", "HX006", "HX008"]
+
+
+def _lint(timeout: float | None = 1.0) -> tuple[object, list[str]]:
+    registry = load_registry([*installed(ENTRY_POINT_GROUP), HOSTILE])
+    report = Linter(registry, LintOptions(rule_timeout=timeout)).lint_path(CLEAN)
+    return report, list(report.internal_errors)
+
+
+def test_each_misbehaving_rule_is_an_internal_error_and_the_rest_is_kept(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    report, errors = _lint()
+    failed = sorted(error.split()[1] for error in errors)
+    assert failed == FAILING
+    assert [f.code for f in report.findings] == ["HX009"]  # type: ignore[attr-defined]
+    by_code = {error.split()[1]: error for error in errors}
+    assert "yielded None, not a Hit" in by_code["HX001"]
+    assert "yielded 'a finding, as text', not a Hit" in by_code["HX002"]
+    assert "message is 42" in by_code["HX003"]
+    assert "not an element of this document" in by_code["HX004"]
+    assert "SystemExit(0)" in by_code["HX005"]
+    assert "Escape('out of here')" in by_code["HX006"]
+    assert "stopped after 1 s" in by_code["HX008"]
+    out, err = capsys.readouterr()
+    assert out == "" and "chatter from a rule" in err  # a rule's print goes to stderr
+
+
+def test_a_pack_that_exits_on_import_is_skipped_with_a_warning(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    registry = load_registry([*installed(ENTRY_POINT_GROUP), EXITS_ON_IMPORT])
+    assert any("'exits'" in w and "SystemExit(0)" in w for w in registry.warnings)
+    assert "SW001" in registry.by_code
+    out, err = capsys.readouterr()
+    assert out == "" and "importing a pack that exits" in err
+
+
+def _installed_hostile_pack(tmp_path: Path) -> dict[str, str]:
+    """An environment in which the hostile pack is installed, as pip would leave it."""
+    site = tmp_path / "site"
+    info = site / "hostile_pack-1.0.dist-info"
+    info.mkdir(parents=True)
+    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: hostile-pack\nVersion: 1.0\n")
+    (info / "entry_points.txt").write_text(
+        f"[{ENTRY_POINT_GROUP}]\nhostile = tests.hostile_pack.rules\n"
+        "exits = tests.hostile_pack.exits_on_import\n"
+    )
+    path = os.pathsep.join([str(site), str(REPO)])
+    return {**os.environ, "PYTHONPATH": path, "XODRLINT_CACHE_DIR": str(tmp_path / "cache")}
+
+
+def test_the_command_line_survives_the_hostile_pack(tmp_path: Path) -> None:
+    command = [sys.executable, "-m", "xodrlint", "check", "-f", "json", "--rule-timeout", "1"]
+    done = subprocess.run(
+        [*command, str(CLEAN)],
+        env=_installed_hostile_pack(tmp_path),
+        check=False,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 3, done.stderr  # internal errors: exit 3 at the end
+    report = json.loads(done.stdout)  # nothing a rule printed is in it
+    assert [f["code"] for f in report["findings"]] == ["HX009"]
+    assert "chatter from a rule" in done.stderr
+    assert "Traceback" not in done.stderr
+    for code in FAILING:
+        assert f"rule {code} " in done.stderr
+    assert "rule pack 'exits'" in done.stderr
+
+
+@pytest.mark.parametrize(("value", "code"), [("2.5", 0), ("0", 0), ("-1", 2), ('"soon"', 2)])
+def test_the_rule_timeout_is_configured_like_any_setting(
+    tmp_path: Path, value: str, code: int
+) -> None:
+    (tmp_path / "xodrlint.toml").write_text(f"rule-timeout = {value}\n")
+    done = subprocess.run(
+        [sys.executable, "-m", "xodrlint", "config", "-f", "json"],
+        cwd=tmp_path,
+        check=False,
+        capture_output=True,
+        text=True,
+    )
+    assert done.returncode == code, done.stderr
+    if code == 0:
+        assert json.loads(done.stdout)["settings"]["rule-timeout"]["value"] == float(value)
+    else:
+        assert "rule-timeout" in done.stderr and len(done.stderr.splitlines()) == 1
