@@ -436,3 +436,16 @@ def test_absurd_geometry_is_drawn_quickly_as_far_as_it_can_be(geometry: str) -> 
     assert time.perf_counter() - started < 10
     view_box = [float(value) for value in (_svg(html).get("viewBox") or "").split()]
     assert len(view_box) == 4 and all(math.isfinite(value) for value in view_box)
+
+
+def test_markup_in_names_cannot_end_or_swallow_the_pages_scripts(tmp_path: Path) -> None:
+    # "<!--<script>" in the data block made the HTML parser swallow the page's own script
+    hostile = tmp_path / "<!--<script>x & -->.xodr"  # no "/": a file name
+    hostile.write_bytes(BROKEN.read_bytes())
+    out = tmp_path / "map.html"
+    cli("map", hostile, "-o", out, code=1)
+    html = out.read_text("utf-8")
+    block = re.search(r'<script type="application/json" id="map-data">(.*?)</script>', html, re.S)
+    assert block is not None and "<" not in block[1] and ">" not in block[1]
+    assert len(re.findall(r"<script\b", html)) == 2  # the data and the page's own script
+    assert _page_data(html)["title"] == str(hostile)

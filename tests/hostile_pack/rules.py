@@ -3,17 +3,20 @@
 from __future__ import annotations
 
 import sys
-from collections.abc import Iterator
+from collections.abc import Callable, Iterable, Iterator
+from typing import Any, cast
 
 from lxml import etree
 
 from xodrlint.findings import Hit, Severity
 from xodrlint.model import RailNetwork
-from xodrlint.rules import rule
+from xodrlint.rules import PlainCheck, Rule, rule
 
 
-def _declare(code: str, name: str):  # type: ignore[no-untyped-def]
-    return rule(code=code, name=name, uid=f"test:hostile:{code}", severity=Severity.ERROR)
+def _declare(code: str, name: str) -> Callable[[Callable[[RailNetwork], Iterable[Any]]], Rule]:
+    """``rule`` for checks that may yield anything (that is what is tested)."""
+    declare = rule(code=code, name=name, uid=f"test:hostile:{code}", severity=Severity.ERROR)
+    return lambda check: declare(cast(PlainCheck, check))
 
 
 class Escape(BaseException):

@@ -8,6 +8,7 @@ from collections.abc import Sequence
 from html import escape
 from importlib.resources import files
 from string import Template
+from typing import Final
 
 from xodrlint.mapview.scene import Scene
 from xodrlint.mapview.svg import Frame, PlacedFinding, RoadEntry, render_svg, unit
@@ -23,11 +24,17 @@ def standalone_svg(scene: Scene, findings: Sequence[PlacedFinding], frame: Frame
     return '<?xml version="1.0" encoding="UTF-8"?>\n' + svg + "\n"
 
 
+_SCRIPT_ESCAPES: Final = (("<", "\\u003c"), (">", "\\u003e"), ("&", "\\u0026"))
+
+
 def html_page(title: str, scene: Scene, findings: Sequence[PlacedFinding], frame: Frame) -> str:
     svg, road_index = render_svg(scene, findings, frame)
     data = _data(title, scene, findings, road_index)
-    # "</" inside a script element would end it: JSON allows "\/" for "/"
-    payload = json.dumps(data, ensure_ascii=False, separators=(",", ":")).replace("</", "<\\/")
+    # In a script element "</script" ends it and "<!--<script" makes the parser swallow
+    # the page's own script: no "<" at all (JSON reads "\u003c" as "<"), nor ">" or "&"
+    payload = json.dumps(data, ensure_ascii=False, separators=(",", ":"))
+    for raw, escaped in _SCRIPT_ESCAPES:
+        payload = payload.replace(raw, escaped)
     return Template(resource("template.html")).substitute(
         title=escape(title),
         css=resource("map.css"),
