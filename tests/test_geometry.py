@@ -202,13 +202,17 @@ def test_records_written_out_of_order_are_taken_in_order_of_s() -> None:
     assert line.pose(5.0) == Pose(5.0, 0.0, 0.0)
 
 
-def test_a_record_lacking_its_length_and_more_names_all_it_lacks() -> None:
+def test_a_record_lacking_its_length_and_more_names_what_the_fallback_cannot_give() -> None:
+    # the length falls back to the next record's start; what else is missing is named
     road = etree.fromstring(
-        '<road id="9" length="20"><planView><geometry x="0" y="0" hdg="0"><line/></geometry>'
+        '<road id="9" length="20"><planView><geometry s="0" y="0" hdg="0"><line/></geometry>'
+        '<geometry s="10" x="10" y="0" hdg="0" length="10"><line/></geometry>'
+        '<geometry y="0" hdg="0"><line/></geometry>'
         "</planView></road>"
     )
     assert [p.message for p in reference_line(road).problems] == [
-        "geometry lacks a readable '@s', '@length'"
+        "geometry lacks a readable '@x'",
+        "geometry lacks a readable '@s', '@x', '@length'",
     ]
 
 

@@ -717,7 +717,7 @@ def test_a_set_with_a_broken_assertion_is_never_built_unchecked(
 def test_the_first_stage_needs_no_xmlschema_model_where_no_alternative_can_apply(
     cache: Path, monkeypatch: pytest.MonkeyPatch, parts: dict[str, str], split: bool
 ) -> None:
-    # the first stage runs in a forked child beside the rules; without type marks to set
+    # the first stage runs beside the rules (a thread); without type marks to set
     # it is libxml2 alone, and the slow model is built by the parent after its rules
     validator = xsd11_validator(_entry("1.9.0"), Libxml2Validator)
     assert isinstance(validator, FastXsd11Validator)

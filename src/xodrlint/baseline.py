@@ -47,8 +47,15 @@ def load_baseline(path: Path) -> Counter[str]:
         document = json.loads(path.read_text(encoding="utf-8"))
     except OSError as error:
         raise BaselineError(f"{path}: cannot read: {error.strerror or error}") from error
-    except (json.JSONDecodeError, UnicodeDecodeError) as error:
-        raise BaselineError(f"{path}: not a baseline (invalid JSON: {error})") from error
+    except (ValueError, RecursionError) as error:  # bad JSON, a number past int's limit
+        reason = (
+            str(error)
+            if isinstance(error, json.JSONDecodeError)
+            else "nested too deeply"
+            if isinstance(error, RecursionError)
+            else "a number too long to read"
+        )
+        raise BaselineError(f"{path}: not a baseline (invalid JSON: {reason})") from error
     entries = document.get("findings") if isinstance(document, dict) else None
     if (
         not isinstance(document, dict)

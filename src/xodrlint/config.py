@@ -65,8 +65,9 @@ def read_config(path: Path, *, required: bool = True) -> ConfigFile | None:
         document = tomllib.loads(path.read_text(encoding="utf-8"))
     except OSError as error:
         raise ConfigError(f"{path}: cannot read: {error.strerror or error}") from error
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as error:
-        raise ConfigError(f"{path}: not valid TOML: {error}") from error
+    except (ValueError, RecursionError) as error:  # TOMLDecodeError is a ValueError
+        reason = "nested too deeply" if isinstance(error, RecursionError) else str(error)
+        raise ConfigError(f"{path}: not valid TOML: {reason}") from error
     if path.name == "pyproject.toml":
         tool = document.get("tool", {})
         table = tool.get("xodrlint") if isinstance(tool, dict) else None

@@ -43,6 +43,7 @@ from xodrlint.engine import (
 from xodrlint.files import overwrites
 from xodrlint.findings import NO_ENTRIES, FileReport, RunResult
 from xodrlint.formatters import Formatter, available, get_formatter
+from xodrlint.messages import one_line
 from xodrlint.output import STDOUT, error_line, write_output
 from xodrlint.registry import Registry
 from xodrlint.suppress import UNUSED_META
@@ -152,6 +153,7 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
         formatter = formatter or _formatter(settings.output_format, request)
         inputs = _inputs(request, settings)
         _check_output_target("--output", request.output, inputs)
+        _check_output_spares("--output", request.output, request.baseline, settings.config_file)
         if request.write_baseline is not None:
             _check_output_target("--write-baseline", str(request.write_baseline), inputs)
         recorded = None
@@ -170,7 +172,7 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
     root = str(Path.cwd())
     for report in reports:
         if report.error:
-            error_line(report.error)
+            error_line(one_line(report.error))  # it names the file: escaped
         for crash in report.internal_errors:
             error_line(f"internal error: {crash}")
     if request.write_baseline is not None:  # every current finding, the baseline's too
@@ -343,6 +345,17 @@ def _per_file_ignores(settings: Settings, path: Path) -> tuple[tuple[str, str], 
         if any_match([glob], path, settings.base)
         for selector in selectors
     )
+
+
+def _check_output_spares(
+    flag: str, output: str | None, baseline: Path | None, config: Path | None
+) -> None:
+    """Refuse a report written over the baseline or the config file this run reads."""
+    if output in (None, STDOUT):
+        return
+    for read, what in ((baseline, "the baseline"), (config, "the config file")):
+        if read is not None and overwrites(Path(output), [read]):
+            raise UsageError(f"{flag} {output}: is {what} this run reads; refusing to overwrite it")
 
 
 def _check_output_target(flag: str, output: str | None, inputs: list[Input]) -> None:

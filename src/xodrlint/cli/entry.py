@@ -3,6 +3,7 @@ line and a documented exit code, only the invoked command is built, and the proc
 leaves without tearing the interpreter down."""
 
 # No ``from __future__ import annotations``, as in :mod:`xodrlint.cli.commands`.
+import errno
 import os
 import sys
 from typing import Final, NoReturn
@@ -30,6 +31,30 @@ def _leave(code: object) -> NoReturn:
     os._exit(status)
 
 
+class ClosedStream(OSError):
+    """Written to a standard stream the shell closed (``xodrlint check f >&-``)."""
+
+
+class _Closed:
+    """Stands in for a standard stream that was closed when the process started (Python
+    then sets it to ``None``): a run that writes nothing there goes on; one that does
+    ends in one line and exit 2, instead of an internal error."""
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+
+    def write(self, text: str) -> int:
+        if not text:
+            return 0
+        raise ClosedStream(errno.EBADF, f"standard {self.name} is closed; use -o FILE")
+
+    def flush(self) -> None:
+        pass
+
+    def isatty(self) -> bool:
+        return False
+
+
 def _invoked_alone(argv: list[str]) -> typer.Typer | None:
     """The command ``argv`` invokes, as an app of its own, or ``None`` (no command, a
     group such as ``schemas``, or an option first). Typer builds the click object of
@@ -54,6 +79,10 @@ def _invoked_alone(argv: list[str]) -> typer.Typer | None:
 
 def main() -> None:
     """Console entry point: every failure ends in one line and a documented exit code."""
+    if sys.stdout is None:
+        sys.stdout = _Closed("output")
+    if sys.stderr is None:
+        sys.stderr = _Closed("error")
     try:
         alone = _invoked_alone(sys.argv[1:])
         if alone is not None:
@@ -67,6 +96,11 @@ def main() -> None:
         if os.environ.get(FAST_EXIT_ENV, "1") != "0":
             _leave(done.code)
         raise
+    except ClosedStream as error:
+        typer.echo(f"xodrlint: {error.strerror}", err=True)
+        if os.environ.get(FAST_EXIT_ENV, "1") != "0":
+            _leave(2)
+        sys.exit(2)
     except Exception as error:  # the last line of defence: exit 3, never a traceback
         if os.environ.get("XODRLINT_DEBUG"):
             raise

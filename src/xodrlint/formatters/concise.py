@@ -10,6 +10,7 @@ from __future__ import annotations
 from typing import TextIO
 
 from xodrlint.findings import Finding, RunResult
+from xodrlint.messages import one_line
 
 from ._common import single_line
 
@@ -25,6 +26,6 @@ class ConciseFormatter:
 
 def line(finding: Finding) -> str:
     return (
-        f"{single_line(finding.path)}:{finding.line}: {finding.code} "
+        f"{one_line(finding.path)}:{finding.line}: {finding.code} "
         f"[{finding.severity}] {single_line(finding.message)}"
     )

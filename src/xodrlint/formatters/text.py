@@ -12,6 +12,7 @@ from rich.console import Console
 from rich.text import Text
 
 from xodrlint.findings import FileReport, Finding, RunResult, Severity
+from xodrlint.messages import one_line
 
 STYLE: Final = {
     Severity.ERROR: "bold red",
@@ -37,7 +38,7 @@ class TextFormatter:
 
     def _file(self, console: Console, report: FileReport) -> None:
         if not self.quiet:
-            header = Text(report.path, style="bold underline")
+            header = Text(one_line(report.path), style="bold underline")
             facts = [f"OpenDRIVE {report.declared_version}"] if report.declared_version else []
             if report.schema:
                 facts.append(f"schema: {report.schema}")
@@ -51,13 +52,16 @@ class TextFormatter:
             console.print(Text(f"    {finding.xpath}", style="dim"))
             source = report.source_lines.get(finding.line) if self.show_source else None
             if source is not None:
-                console.print(Text(f"    {finding.line:>6} | ", style="dim") + Text(source))
+                console.print(
+                    Text(f"    {finding.line:>6} | ", style="dim") + Text(one_line(source))
+                )
         if not self.quiet:
             console.print()
 
 
 def _line(finding: Finding) -> Text:
-    location = f"{finding.path}:{finding.line}"
+    # a file name may hold anything a terminal obeys (ESC, line breaks): escaped
+    location = f"{one_line(finding.path)}:{finding.line}"
     if finding.column is not None:
         location += f":{finding.column}"
     text = Text(location, style="bold")

@@ -132,8 +132,13 @@ class Record:
 class Line(Record):
     __slots__ = ()
 
-    def pose_at(self, ds: float) -> Pose:  # the general form, without the local pose
-        return Pose(self.x + ds * math.cos(self.hdg), self.y + ds * math.sin(self.hdg), self.hdg)
+    def pose_at(self, ds: float) -> Pose:
+        # the general form's arithmetic without its local pose (v = 0, no turn), so that
+        # even the sign of a zero is the same
+        cos_h, sin_h = math.cos(self.hdg), math.sin(self.hdg)
+        return Pose(
+            self.x + ds * cos_h - 0.0 * sin_h, self.y + ds * sin_h + 0.0 * cos_h, self.hdg + 0.0
+        )
 
 
 class Arc(Record):

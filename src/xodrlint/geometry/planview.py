@@ -108,7 +108,8 @@ def reference_line(road: etree._Element) -> ReferenceLine:
     guessed = False
     for index, element in enumerate(geometries):
         record = read_record(element)
-        if record is _NO_LENGTH:  # drawn up to the next record or the road's end
+        if isinstance(record, str) and number(element, "length") is None:
+            # drawn up to the next record or the road's end (looked up only on failure)
             following = geometries[index + 1] if index + 1 < len(geometries) else None
             record = read_record(element, _length_fallback(element, following, road))
             guessed = True
@@ -128,11 +129,6 @@ def _length_fallback(
     return end - start if start is not None and end is not None and end > start else None
 
 
-#: What :func:`read_record` says of a record whose length alone is unreadable (checked by
-#: identity: the caller then asks again with a length to fall back on).
-_NO_LENGTH: Final = "geometry lacks a readable '@length'"
-
-
 def read_record(element: etree._Element, length_fallback: float | None = None) -> Record | str:
     """The record of a ``geometry`` element, or why it cannot be drawn."""
     s, x, y, hdg, length = numbers(element, _RECORD_ATTRIBUTES)
@@ -141,8 +137,6 @@ def read_record(element: etree._Element, length_fallback: float | None = None) -
     if s is None or x is None or y is None or hdg is None or length is None:
         values = (s, x, y, hdg, length)
         missing = [n for n, v in zip(_RECORD_ATTRIBUTES, values, strict=True) if v is None]
-        if missing == ["length"]:
-            return _NO_LENGTH
         return "geometry lacks a readable " + ", ".join(f"'@{name}'" for name in missing)
     if length < 0:
         return f"geometry has a negative length ({length:g})"

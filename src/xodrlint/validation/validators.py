@@ -60,11 +60,11 @@ class SchemaValidators:
         schema = self.schema_for(doc)
         if schema is None or doc.tree is None:
             return Pending(lambda: None)
-        validator = self._validator(schema)  # compiled here, so a child inherits it
+        validator = self._validator(schema)  # compiled here, so a child would inherit it
         root = doc.tree.getroot()
         # A validator that splits its work (libxml2, then XSD 1.1 checks that need a slow
-        # xmlschema model) has the child run the first part only: the caller finishes the
-        # rest after its rules, so both cores stay busy.
+        # xmlschema model) runs the first part beside the rules (a thread or a child): the
+        # caller finishes the rest after its rules, so both cores stay busy.
         split = getattr(validator, "stages", None)
         if split is not None:
             first, finish, thread_safe = split(doc)

@@ -31,9 +31,10 @@ from xodrlint.findings import Hit
 
 _T = TypeVar("_T")
 
-#: Below this many bytes a fork costs more than the overlap saves.
+#: Below this many bytes a thread or a fork is not worth it: the overlap saves little
+#: (the fork costs more than it saves).
 MIN_BYTES: Final = 4 * 1024 * 1024
-#: Set to "0" to keep all work in one process (debugging, measuring).
+#: Set to "0" to keep all work in the calling thread (debugging, measuring).
 ENV: Final = "XODRLINT_FORK"
 
 

@@ -20,7 +20,7 @@ Anything the fast path cannot reproduce raises
 cache also records, from one strict xmlschema build of the set, where an element
 with type alternatives can stand. A document with no element there needs no type
 marks, so libxml2 runs alone in a thread. The assertions need no libxml2 result:
-on a large document a second child loads the xmlschema model and checks them, while
+on a large document a forked child loads the xmlschema model and checks them, while
 the caller runs its rules; the caller only merges, and loads the model itself only
 when libxml2 skipped a subtree. The model (built with the meta-schema check that
 strict build made once) is kept pickled beside the form, so runs load it instead of
