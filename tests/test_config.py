@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 import textwrap
 from pathlib import Path
 
@@ -197,3 +199,30 @@ def test_read_config_errors_name_the_file(tmp_path: Path) -> None:
     path.write_text("[tool]\nxodrlint = 3\n", "utf-8")
     with pytest.raises(ConfigError, match="must be a table"):
         read_config(path)
+
+
+@pytest.mark.parametrize(
+    ("pattern", "path", "expected"),
+    [
+        ("*a*a*a*a*a*a*a*a*c", "a" * 60 + ".xodr", False),
+        ("*a*a*a*a*a*a*a*a*c", "a" * 60 + "c", True),
+        ("**/**/**/**/x*x*x*x*x*y", "/".join(["x" * 30] * 40), False),
+    ],
+)
+def test_an_exclude_pattern_never_backtracks_for_ever(
+    tmp_path: Path, pattern: str, path: str, expected: bool
+) -> None:
+    # as a backtracking regular expression these took more than 100 s; a hang guard in a
+    # child process, not a timing: the matcher's work is bounded by the sizes involved
+    code = (
+        "import sys; from xodrlint.config import glob_matches; "
+        "print(glob_matches(sys.argv[1], sys.argv[2]))"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code, pattern, path],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=30,
+    )
+    assert done.stdout.strip() == str(expected)

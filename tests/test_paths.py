@@ -91,6 +91,60 @@ def test_symlink_loops_in_a_folder_walk(tmp_path: Path) -> None:
     assert done.stdout.count("XS006") == 3  # broken.xodr was still linted
 
 
+def test_recursive_globs_do_not_follow_folder_links_into_loops(tmp_path: Path) -> None:
+    maps = _folder(tmp_path)
+    (maps / "sub").mkdir()
+    shutil.copyfile(BROKEN, maps / "sub" / "b-broken.xodr")
+    (maps / "sub" / "up").symlink_to("..")  # two loops: glob.glob followed them for ever
+    (maps / "sub" / "again").symlink_to("../sub")
+    done = console("check", "-f", "json", f"{maps}/**/*.xodr")
+    assert done.returncode == 1, done.stderr
+    paths = [entry["path"] for entry in json.loads(done.stdout)["files"]]
+    assert paths == [f"{maps}/a-clean.xodr", f"{maps}/sub/b-broken.xodr"]
+
+
+def test_a_file_named_several_ways_is_linted_once(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    maps = _folder(tmp_path)
+    (tmp_path / "link.xodr").symlink_to(maps / "a-clean.xodr")
+    monkeypatch.chdir(tmp_path)
+    names = ["maps/a-clean.xodr", "./maps/a-clean.xodr", str(maps / "a-clean.xodr")]
+    done = console("check", "-f", "json", *names, "link.xodr", "maps", "maps/*.xodr")
+    assert done.returncode == 0, done.stderr
+    assert [entry["path"] for entry in json.loads(done.stdout)["files"]] == [names[0]]
+
+
+def test_standard_input_twice_is_a_usage_error() -> None:
+    done = console("check", "-", "-", stdin=CLEAN.read_bytes())
+    assert done.returncode == 2
+    assert done.stderr == "xodrlint: - (standard input) is given more than once\n"
+
+
+@pytest.mark.parametrize(
+    ("pattern", "found"),
+    [
+        ("maps/*.xodr", ["maps/a-clean.xodr"]),
+        ("maps/*", ["maps/a-clean.xodr", "maps/notes.txt", "maps/sub/c.xodr"]),
+        ("*.xodr", ["top.xodr"]),
+        ("maps/*/c.xodr", ["maps/sub/c.xodr"]),
+        ("maps/.hidden/*.xodr", ["maps/.hidden/h.xodr"]),
+        ("**/*.xodr", ["maps/a-clean.xodr", "maps/sub/c.xodr", "top.xodr"]),
+    ],
+)
+def test_globs_find_what_the_shell_would(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, pattern: str, found: list[str]
+) -> None:
+    from xodrlint.api import collect_inputs
+
+    maps = _folder(tmp_path)
+    for name in ("notes.txt", "sub/c.xodr", ".hidden/h.xodr", "../top.xodr"):
+        (maps / name).parent.mkdir(exist_ok=True)
+        (maps / name).write_text("<OpenDRIVE/>")
+    monkeypatch.chdir(tmp_path)
+    assert [item.display for item in collect_inputs([pattern])] == found
+
+
 def test_non_utf8_file_names_are_one_line_and_the_rest_is_linted(tmp_path: Path) -> None:
     maps = _folder(tmp_path)
     try:

@@ -115,13 +115,31 @@ def collect_inputs(
     name that is not UTF-8 and so cannot be reported) comes back with ``error`` or
     ``skipped`` set, before any linting starts.
     """
+    # a file named several ways (f, ./f, its absolute path, a link to it) is linted once
+    seen: set[tuple[int, int]] = set()
     for raw in paths:
         if raw == STDIN:
             yield Input(STDIN, is_stdin=True)
             continue
         for item in _expand(raw, max_file_size):
-            if item.path is None or exclude is None or not exclude(item.path):
-                yield item
+            if item.path is not None and exclude is not None and exclude(item.path):
+                continue
+            identity = _identity(item)
+            if identity is not None:
+                if identity in seen:
+                    continue
+                seen.add(identity)
+            yield item
+
+
+def _identity(item: Input) -> tuple[int, int] | None:
+    if item.path is None or item.error is not None:
+        return None
+    try:
+        status = item.path.stat()
+    except OSError:
+        return None
+    return status.st_dev, status.st_ino
 
 
 def _expand(raw: str, max_file_size: int) -> Iterator[Input]:
@@ -141,15 +159,54 @@ def _expand(raw: str, max_file_size: int) -> Iterator[Input]:
 
 
 def _glob(pattern: str, max_file_size: int) -> Iterator[Input]:
-    # glob.glob, not Path.glob: the pattern may be absolute, and ** must cross folders
-    matched = sorted(glob.glob(pattern, recursive=True))  # noqa: PTH207
-    if not matched:
+    """The files a glob names, walked from its folder before the first wildcard with
+    :func:`os.walk` (folder links not followed: a link loop cannot make it endless) and
+    matched in linear time. A folder it names is walked for ``*.xodr``; names starting
+    with a dot are left out unless the pattern names them so, as the shell does."""
+    from xodrlint.config import glob_matches
+
+    normalised = pattern.replace("\\", "/")
+    parts = normalised.split("/")
+    fixed = next(i for i, part in enumerate(parts) if glob.has_magic(part))
+    root = "/".join(parts[:fixed]) or ("/" if normalised.startswith("/") else ".")
+    hidden = "/." in "/" + normalised
+    # without "**" the pattern reaches so many folders below its fixed part, no deeper
+    depth = None if "**" in parts[fixed:] else len(parts) - fixed - 1
+    found: list[Path] = []
+    for current, folders, files in os.walk(root, followlinks=False):
+        below = len(Path(current).relative_to(root).parts)
+        kept = [f for f in folders if hidden or not f.startswith(".")]
+        if depth is not None and below == depth:  # deeper only into a folder it names
+            kept = [
+                f
+                for f in kept
+                if glob_matches(
+                    normalised,
+                    _shown_as_given(Path(current, f), root, parts[:fixed]),
+                    whole=True,
+                    anywhere=False,
+                )
+            ]
+        folders[:] = sorted(kept)
+        for name in files:
+            if not hidden and name.startswith("."):
+                continue
+            shown = _shown_as_given(Path(current, name), root, parts[:fixed])
+            if glob_matches(normalised, shown, whole=True, anywhere=False) or (
+                name.lower().endswith(XODR_SUFFIX)
+                and glob_matches(normalised, shown, anywhere=False)
+            ):
+                found.append(Path(shown))
+    if not found:
         yield Input(pattern, error=f"{pattern}: no file matches")
-    for name in matched:
-        if Path(name).is_dir():
-            yield from _walk(Path(name), max_file_size)
-        else:
-            yield _found(Path(name), max_file_size)
+    for path in sorted(found):
+        yield _found(path, max_file_size)
+
+
+def _shown_as_given(path: Path, root: str, fixed: list[str]) -> str:
+    """``path`` spelt as the pattern spells its folder (``./`` dropped, as glob does)."""
+    posix = path.as_posix()
+    return posix[2:] if root == "." and not fixed and posix.startswith("./") else posix
 
 
 def _walk(folder: Path, max_file_size: int) -> Iterator[Input]:

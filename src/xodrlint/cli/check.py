@@ -303,6 +303,8 @@ def _inputs(request: CheckRequest, settings: Settings) -> list[Input]:
     if name is not None and printable_path(name) != name:
         shown = printable_path(name)
         raise UsageError(f"--stdin-filename {shown}: the name is not valid UTF-8")
+    if request.paths.count(STDIN) > 1:
+        raise UsageError(f"{STDIN} (standard input) is given more than once")
     inputs = []
     for item in collect_inputs(request.paths, _excluder(settings), settings.max_file_size):
         if item.skipped is not None:
