@@ -3,8 +3,10 @@ line and a documented exit code, only the invoked command is built, and the proc
 leaves without tearing the interpreter down."""
 
 # No ``from __future__ import annotations``, as in :mod:`xodrlint.cli.commands`.
+import contextlib
 import errno
 import os
+import signal
 import sys
 from typing import Final, NoReturn
 
@@ -29,6 +31,17 @@ def _leave(code: object) -> NoReturn:
         except (OSError, ValueError):  # a closed pipe: nothing more can be said there
             status = status or 1
     os._exit(status)
+
+
+class Terminated(BaseException):
+    """SIGTERM arrived (a CI job cancelled, a container stopped). Raised in the main
+    thread like Ctrl-C's KeyboardInterrupt, so the same clean-up runs: workers are
+    stopped and half-written reports removed. A BaseException: no ``except Exception``
+    on the way may swallow it."""
+
+
+def _terminate(signum: int, frame: object) -> None:
+    raise Terminated
 
 
 class ClosedStream(OSError):
@@ -79,6 +92,8 @@ def _invoked_alone(argv: list[str]) -> typer.Typer | None:
 
 def main() -> None:
     """Console entry point: every failure ends in one line and a documented exit code."""
+    with contextlib.suppress(ValueError, OSError):  # not the main thread: no handler
+        signal.signal(signal.SIGTERM, _terminate)
     if sys.stdout is None:
         sys.stdout = _Closed("output")
     if sys.stderr is None:
@@ -96,6 +111,9 @@ def main() -> None:
         if os.environ.get(FAST_EXIT_ENV, "1") != "0":
             _leave(done.code)
         raise
+    except Terminated:
+        typer.echo("xodrlint: terminated", err=True)
+        _leave(143)
     except ClosedStream as error:
         typer.echo(f"xodrlint: {error.strerror}", err=True)
         if os.environ.get(FAST_EXIT_ENV, "1") != "0":
