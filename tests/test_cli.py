@@ -393,11 +393,101 @@ def test_schemas_add_rejects_what_holds_no_schema(
     assert not (isolated_schemas / "schemas").exists()
 
 
+@pytest.mark.parametrize("as_zip", [False, True])
+@pytest.mark.parametrize("limit", ["MAX_FILE_BYTES", "MAX_TOTAL_BYTES"])
+def test_schemas_add_refuses_more_than_a_schema_set_can_hold(
+    tmp_path: Path,
+    isolated_schemas: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    as_zip: bool,
+    limit: str,
+) -> None:
+    # the real limits are 64 MiB a file and 256 MiB in all: a 1 MB zip held a 1 GiB XSD
+    from xodrlint.validation import store
+
+    monkeypatch.setattr(store, limit, len(STUB_XSD) + 10)
+    source = stub_download(tmp_path / "download")
+    (source / "1.7.0" / "opendrive_extra.xsd").write_text(STUB_XSD + " " * 20, "utf-8")
+    if as_zip:
+        source = zip_of(source, tmp_path / "download.zip")
+    result = cli("schemas", "add", source, code=2)
+    assert "refused" in result.stderr and len(result.stderr.splitlines()) == 1
+    assert not (isolated_schemas / "schemas" / "1.7.0").exists()
+
+
+def test_schemas_add_refuses_a_link_out_of_the_folder(
+    tmp_path: Path, isolated_schemas: Path
+) -> None:
+    secret = tmp_path / "secret.txt"
+    secret.write_text("password", "utf-8")
+    source = stub_download(tmp_path / "download")
+    (source / "1.7.0" / "zz.xsd").symlink_to(secret)
+    result = cli("schemas", "add", source, code=2)
+    assert (
+        result.stderr
+        == f"xodrlint: {source / '1.7.0' / 'zz.xsd'}: links outside {source}; refused\n"
+    )
+    assert not (isolated_schemas / "schemas" / "1.7.0").exists()
+
+
+def test_schemas_add_reports_a_damaged_zip_as_a_usage_error(
+    tmp_path: Path, isolated_schemas: Path
+) -> None:
+    archive = zip_of(stub_download(tmp_path / "download"), tmp_path / "download.zip")
+    data = bytearray(archive.read_bytes())
+    at = data.index(b"OpenDRIVE")  # stored uncompressed: flip a byte of the member
+    data[at] ^= 0x20
+    archive.write_bytes(bytes(data))
+    result = cli("schemas", "add", archive, code=2)
+    assert "a damaged zip file" in result.stderr and "CRC" in result.stderr
+
+
+def test_stored_schemas_follow_the_umask_and_concurrent_adds_wait_their_turn(
+    tmp_path: Path, isolated_schemas: Path
+) -> None:
+    from xodrlint.validation import store
+
+    source = stub_download(tmp_path / "download")
+    target = isolated_schemas / "schemas"
+    old = os.umask(0o027)
+    try:
+        workers = [threading.Thread(target=store.add, args=(source, target)) for _ in range(4)]
+        for worker in workers:
+            worker.start()
+        for worker in workers:
+            worker.join()
+    finally:
+        os.umask(old)
+    assert sorted(p.name for p in target.iterdir()) == ["1.7.0"]  # no staging folder left
+    assert stat.S_IMODE((target / "1.7.0").stat().st_mode) == 0o750
+    assert stat.S_IMODE((target / "1.7.0" / "opendrive_core.xsd").stat().st_mode) == 0o640
+
+
 def fake_wheel(tmp_path: Path) -> Path:
     with zipfile.ZipFile(tmp_path / "fake.whl", "w") as handle:
         handle.writestr("qc_opendrive/schema/1.7.0/x.xsd", STUB_XSD)
         handle.writestr("qc_opendrive/__init__.py", "")
     return tmp_path / "fake.whl"
+
+
+def test_schemas_fetch_without_a_network_says_which_index_it_could_not_reach(
+    isolated_schemas: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import socket
+
+    with socket.socket() as probe:  # a port on the loopback interface that nobody serves
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    index = f"http://127.0.0.1:{port}/simple"
+    monkeypatch.setenv("PIP_CONFIG_FILE", os.devnull)  # the machine's own indexes stay out
+    for name in ("PIP_FIND_LINKS", "PIP_EXTRA_INDEX_URL", "PIP_NO_INDEX"):
+        monkeypatch.delenv(name, raising=False)
+    monkeypatch.setenv("PIP_INDEX_URL", index)
+    result = cli("schemas", "fetch", code=2)
+    assert result.stderr == (
+        f"xodrlint: pip could not reach the package index {index} (127.0.0.1:{port}); "
+        "without a network, 'xodrlint schemas add' takes an ASAM download (a folder or a zip)\n"
+    )
 
 
 def test_schemas_fetch_refuses_a_wheel_that_does_not_match_the_pin(

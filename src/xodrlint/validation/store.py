@@ -7,16 +7,20 @@ only its XSDs. ``add`` takes an ASAM download, as a folder or a zip.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
+import os
+import re
 import shutil
 import subprocess
 import sys
 import tempfile
 import zipfile
+import zlib
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
-from typing import Final
+from typing import IO, Final
 
 from xodrlint.validation.sets import entry_xsd, user_schema_dir, version_of_set
 
@@ -37,23 +41,50 @@ class Installed:
     files: int
 
 
+#: No schema file is larger (ASAM's largest is under 300 KB): a bigger one is a zip bomb
+#: or a mistake, refused before it fills memory or the disk.
+MAX_FILE_BYTES: Final = 64 * 1024 * 1024
+#: What one ``schemas add`` may store in all.
+MAX_TOTAL_BYTES: Final = 256 * 1024 * 1024
+
+
 def add(source: Path, data_dir: Path | None = None) -> list[Installed]:
     """Copy every OpenDRIVE schema set found in ``source`` (a folder or a zip)."""
     target = data_dir or user_schema_dir()
-    if zipfile.is_zipfile(source):
-        with tempfile.TemporaryDirectory() as scratch:
-            _extract_xsds(source, Path(scratch))
-            return _copy_sets(Path(scratch), target)
-    if source.is_dir():
-        return _copy_sets(source, target)
+    with _locked(target):
+        if zipfile.is_zipfile(source):
+            with tempfile.TemporaryDirectory() as scratch:
+                _extract_xsds(source, Path(scratch))
+                return _copy_sets(Path(scratch), target)
+        if source.is_dir():
+            return _copy_sets(source, target)
     raise StoreError(f"{source}: not a folder or a zip file")
 
 
 def fetch(data_dir: Path | None = None, wheel: Path | None = None) -> list[Installed]:
     """Download (or take ``wheel``) the pinned ASAM wheel, verify it, keep its XSDs."""
-    with tempfile.TemporaryDirectory() as scratch:
+    target = data_dir or user_schema_dir()
+    with tempfile.TemporaryDirectory() as scratch, _locked(target):
         path = wheel or _download(Path(scratch))
-        return install_wheel(path, data_dir or user_schema_dir(), QC_WHEEL_SHA256)
+        return install_wheel(path, target, QC_WHEEL_SHA256)
+
+
+@contextlib.contextmanager
+def _locked(target: Path) -> Iterator[None]:
+    """One ``schemas add`` or ``fetch`` at a time per folder: a second one waits (two at
+    once swapped the same set folder and left staging folders behind)."""
+    target.parent.mkdir(parents=True, exist_ok=True)
+    with (target.parent / f".{target.name}.lock").open("a") as lock:
+        try:
+            import fcntl
+        except ImportError:  # pragma: no cover - Windows: no advisory locks here
+            yield
+            return
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
 
 
 def install_wheel(wheel: Path, target: Path, sha256: str) -> list[Installed]:
@@ -80,17 +111,36 @@ def install_wheel(wheel: Path, target: Path, sha256: str) -> list[Installed]:
     return installed
 
 
+#: What pip says when it cannot reach an index (the connection refused, no name
+#: resolution, a timeout): "No matching distribution found" follows, which misleads.
+_UNREACHABLE: Final = re.compile(
+    r"connection broken by|Failed to establish a new connection|Could not fetch URL|"
+    r"Name or service not known|Temporary failure in name resolution|timed out",
+)
+_HOST: Final = re.compile(r"host='([^']+)', port=(\d+)")
+
+
 def _download(scratch: Path) -> Path:
     command = [
         sys.executable, "-m", "pip", "download", "--no-deps", "--only-binary", ":all:",
-        "--disable-pip-version-check", "--quiet", "--dest", str(scratch), QC_REQUIREMENT,
+        "--disable-pip-version-check", "--quiet", "--dest", str(scratch),
+        # a machine without a network answers in seconds, not after pip's 98 s of retries
+        "--timeout", "15", "--retries", "1", QC_REQUIREMENT,
     ]  # fmt: skip
     try:
         subprocess.run(command, check=True, capture_output=True, text=True, timeout=300)
     except FileNotFoundError as error:
         raise StoreError(f"cannot run pip: {error}") from error
     except subprocess.CalledProcessError as error:
-        last = (error.stderr or error.stdout or "").strip().splitlines()
+        said = f"{error.stderr or ''}\n{error.stdout or ''}"
+        if _UNREACHABLE.search(said):
+            host = _HOST.search(said)
+            where = f" ({host[1]}:{host[2]})" if host else ""
+            raise StoreError(
+                f"pip could not reach the package index {_index_url()}{where}; without a "
+                "network, 'xodrlint schemas add' takes an ASAM download (a folder or a zip)"
+            ) from error
+        last = said.strip().splitlines()
         raise StoreError(f"pip download failed: {last[-1] if last else error}") from error
     except subprocess.TimeoutExpired as error:
         raise StoreError("pip download timed out after 300 s") from error
@@ -100,20 +150,67 @@ def _download(scratch: Path) -> Path:
     return wheel
 
 
+def _index_url() -> str:
+    """The index pip asks first: ``PIP_INDEX_URL``, else pip's configuration, else PyPI."""
+    configured = os.environ.get("PIP_INDEX_URL")
+    if configured:
+        return configured
+    with contextlib.suppress(OSError, subprocess.SubprocessError):
+        done = subprocess.run(
+            [sys.executable, "-m", "pip", "config", "get", "global.index-url"],
+            capture_output=True,
+            text=True,
+            timeout=30,
+            check=False,
+        )
+        if done.returncode == 0 and done.stdout.strip():
+            return done.stdout.strip()
+    return "https://pypi.org/simple"
+
+
 def _extract_xsds(archive_path: Path, into: Path) -> None:
-    with zipfile.ZipFile(archive_path) as archive:
-        for info in archive.infolist():
-            name = PurePosixPath(info.filename)
-            # Only plain relative member names: never write outside the scratch folder.
-            if name.suffix.lower() != ".xsd" or name.is_absolute() or ".." in name.parts:
-                continue
-            destination = into.joinpath(*name.parts)
-            destination.parent.mkdir(parents=True, exist_ok=True)
-            destination.write_bytes(archive.read(info))
+    budget = _Budget(archive_path)
+    try:
+        with zipfile.ZipFile(archive_path) as archive:
+            for info in archive.infolist():
+                name = PurePosixPath(info.filename)
+                # Only plain relative member names: never write outside the scratch folder.
+                if name.suffix.lower() != ".xsd" or name.is_absolute() or ".." in name.parts:
+                    continue
+                destination = into.joinpath(*name.parts)
+                destination.parent.mkdir(parents=True, exist_ok=True)
+                with archive.open(info) as member:  # read no more than the limit allows
+                    destination.write_bytes(budget.read(member, info.filename))
+    except (zipfile.BadZipFile, zlib.error, EOFError, NotImplementedError) as error:
+        raise StoreError(f"{archive_path}: a damaged zip file ({error})") from error
+
+
+class _Budget:
+    """Reads schema files while they keep within :data:`MAX_FILE_BYTES` each and
+    :data:`MAX_TOTAL_BYTES` in all; a declared size can lie, so the bytes are counted."""
+
+    def __init__(self, source: Path) -> None:
+        self._source = source
+        self._total = 0
+
+    def read(self, stream: IO[bytes], name: str) -> bytes:
+        data = stream.read(MAX_FILE_BYTES + 1)
+        if len(data) > MAX_FILE_BYTES:
+            raise StoreError(
+                f"{self._source}: {name} is larger than {MAX_FILE_BYTES // 2**20} MiB; "
+                "no schema is: refused"
+            )
+        self._total += len(data)
+        if self._total > MAX_TOTAL_BYTES:
+            raise StoreError(
+                f"{self._source}: more than {MAX_TOTAL_BYTES // 2**20} MiB of schemas; refused"
+            )
+        return data
 
 
 def _copy_sets(source: Path, target: Path) -> list[Installed]:
     installed = []
+    budget = _Budget(source)
     for folder in _folders_with_xsd(source):
         entry = entry_xsd(folder)
         if entry is None:
@@ -123,11 +220,23 @@ def _copy_sets(source: Path, target: Path) -> list[Installed]:
             raise StoreError(f"{entry}: cannot tell which OpenDRIVE version this schema is")
         label = ".".join(map(str, version))
         files = sorted(folder.glob("*.xsd"))
-        _replace_folder(target / label, ((f.name, f.read_bytes()) for f in files))
+        contents = [(f.name, _read_inside(f, source, budget)) for f in files]
+        _replace_folder(target / label, iter(contents))
         installed.append(Installed(label, target / label, len(files)))
     if not installed:
         raise StoreError(f"{source}: holds no OpenDRIVE schema (no XSD declares 'OpenDRIVE')")
     return installed
+
+
+def _read_inside(path: Path, source: Path, budget: _Budget) -> bytes:
+    """A schema file of the folder being added; one that is a link leading out of it
+    (``zz.xsd -> /etc/shadow``) is refused, not copied where others may read it."""
+    root = source.resolve()
+    real = path.resolve()
+    if real != root and root not in real.parents:
+        raise StoreError(f"{path}: links outside {source}; refused")
+    with real.open("rb") as stream:
+        return budget.read(stream, path.name)
 
 
 def _folders_with_xsd(source: Path) -> Iterator[Path]:
@@ -142,6 +251,9 @@ def _replace_folder(folder: Path, files: Iterator[tuple[str, bytes]]) -> None:
     """Write a schema set whole: into a sibling temp folder, then swap it in."""
     folder.parent.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(prefix=f".{folder.name}-", dir=folder.parent))
+    umask = os.umask(0)
+    os.umask(umask)
+    staging.chmod(0o777 & ~umask)  # mkdtemp's 0700, made what a plain mkdir makes
     for name, content in files:
         (staging / name).write_bytes(content)
     if folder.exists():
