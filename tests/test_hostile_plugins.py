@@ -110,3 +110,26 @@ def test_the_rule_timeout_is_configured_like_any_setting(
         assert json.loads(done.stdout)["settings"]["rule-timeout"]["value"] == float(value)
     else:
         assert "rule-timeout" in done.stderr and len(done.stderr.splitlines()) == 1
+
+
+def test_the_limit_is_per_rule_not_per_file() -> None:
+    # ten rules of 0.15 s each under a 0.4 s limit: 1.5 s in all, none of them stopped
+    import time
+    from collections.abc import Iterator
+
+    from xodrlint.findings import Hit, Severity
+    from xodrlint.registry import Registry
+    from xodrlint.rules import rule
+
+    def slow(code: str) -> object:
+        @rule(code=code, name="slow", uid=f"test:{code}", severity=Severity.INFO)
+        def check(network: object) -> Iterator[Hit]:
+            time.sleep(0.15)
+            yield from ()
+
+        return check
+
+    rules = tuple(slow(f"SL{n:03}") for n in range(10))
+    registry = Registry(rules, ())  # type: ignore[arg-type]
+    report = Linter(registry, LintOptions(rule_timeout=0.4)).lint_path(CLEAN)
+    assert report.internal_errors == ()

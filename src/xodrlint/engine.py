@@ -34,7 +34,7 @@ from xodrlint.findings import (
 from xodrlint.messages import one_line
 from xodrlint.model import RailNetwork, build_network
 from xodrlint.registry import Registry
-from xodrlint.rule_guard import RuleTimeout, checked_hit, guarded
+from xodrlint.rule_guard import RuleClock, RuleTimeout, checked_hit
 from xodrlint.rules import Rule
 from xodrlint.suppress import (
     Suppressions,
@@ -278,27 +278,30 @@ class Linter:
         stamped: list[_Stamped],
         crashes: list[str],
     ) -> None:
-        timeout = self.options.rule_timeout
-        for candidate in rules:
-            # whatever a rule does is at worst its own internal error on this file: the
-            # other rules' findings stand (see rule_guard)
-            try:
-                with guarded(timeout):
-                    produced = [
-                        self._stamp(doc, candidate, checked_hit(hit, doc.root))
-                        for hit in candidate(network, self._settings)
-                    ]
-            except KeyboardInterrupt:
-                raise
-            except RuleTimeout:
-                crashes.append(
-                    f"rule {candidate.code} stopped after {timeout:g} s on {doc.path} "
-                    "(--rule-timeout)"
-                )
-            except BaseException as error:  # SystemExit too: a rule does not end the run
-                crashes.append(f"rule {candidate.code} failed on {doc.path}: {error!r}")
-            else:
-                stamped.extend(produced)
+        with RuleClock(self.options.rule_timeout) as clock:
+            for candidate in rules:
+                # whatever a rule does is at worst its own internal error on this file:
+                # the other rules' findings stand (see rule_guard)
+                try:
+                    try:
+                        clock.started()
+                        produced = [
+                            self._stamp(doc, candidate, checked_hit(hit, doc.root))
+                            for hit in candidate(network, self._settings)
+                        ]
+                    finally:  # first thing, so no tick lands in the handlers below
+                        clock.stopped()
+                except KeyboardInterrupt:
+                    raise
+                except RuleTimeout as stop:
+                    crashes.append(
+                        f"rule {candidate.code} stopped after {stop.args[0]:g} s on {doc.path} "
+                        "(--rule-timeout)"
+                    )
+                except BaseException as error:  # SystemExit too: a rule does not end the run
+                    crashes.append(f"rule {candidate.code} failed on {doc.path}: {error!r}")
+                else:
+                    stamped.extend(produced)
 
     def _apply_suppressions(
         self, doc: Document, stamped: list[_Stamped], external: ExternalIgnores
