@@ -10,6 +10,13 @@ gives no finding and the official schema of the version accepts it.
 
     python benchmarks/generate.py --size-mb 20 --version 1.7 -o network-20mb-1.7.xodr
     python benchmarks/generate.py --files 200 --size-kb 20 -o small/   # a batch folder
+    python benchmarks/generate.py --shape railway --size-mb 20 -o railway-20mb-1.7.xodr
+    python benchmarks/generate.py --shape railway --defects --blocks 1000 -o findings.xodr
+    python benchmarks/generate.py --invalid-roads 1000000 -o roads-1m.xodr
+
+``--shape railway`` is the rail-dense shape of ``railway.py`` (every road a track);
+``--defects`` gives each of its switches a schema and a rule defect; ``--invalid-roads``
+writes that many tiny roads that each fail the schema.
 """
 
 from __future__ import annotations
@@ -17,13 +24,13 @@ from __future__ import annotations
 import argparse
 import math
 import sys
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import Final
 
 #: Bumped whenever the networks change, so a benchmark's work folder never reuses a network
-#: an older generator wrote (version 2: side tracks that meet their switches).
-GENERATOR_VERSION: Final = 2
+#: an older generator wrote (version 2: side tracks that meet their switches; 3: the railway shape).
+GENERATOR_VERSION: Final = 3
 TRACK_LENGTH: Final = 200.0
 STREET_LANES: Final = 3  # per side
 #: Heading change of each arc of a reverse curve (8.6 degrees: a 1:6.6 turnout).
@@ -237,9 +244,7 @@ def network(size_bytes: int, minor: int = 7) -> Iterator[str]:
 
 
 def write_network(path: Path, size_bytes: int, minor: int = 7) -> None:
-    with path.open("w", encoding="utf-8", newline="\n") as stream:
-        for piece in network(size_bytes, minor):
-            stream.write(piece)
+    write_pieces(path, network(size_bytes, minor))
 
 
 def _minor(version: str) -> int:
@@ -249,15 +254,37 @@ def _minor(version: str) -> int:
     return int(minor)
 
 
+def write_pieces(path: Path, pieces: Iterable[str]) -> None:
+    with path.open("w", encoding="utf-8", newline="\n") as stream:
+        stream.writelines(pieces)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--version", type=_minor, default=7, help="OpenDRIVE version (1.7)")
+    parser.add_argument("--shape", choices=("mixed", "railway"), default="mixed")
+    parser.add_argument("--defects", action="store_true", help="railway: defects per switch")
     size = parser.add_mutually_exclusive_group()
     size.add_argument("--size-mb", type=float, help="one network of about this size")
     size.add_argument("--size-kb", type=float, help="size of each file with --files")
+    size.add_argument("--blocks", type=int, help="railway: this many blocks (3 switches each)")
+    size.add_argument("--invalid-roads", type=int, help="this many schema-invalid tiny roads")
     parser.add_argument("--files", type=int, help="write this many files into the -o folder")
     parser.add_argument("-o", "--output", type=Path, required=True)
     args = parser.parse_args(argv)
+    from railway import invalid_roads, railway
+
+    if args.invalid_roads:
+        write_pieces(args.output, invalid_roads(args.invalid_roads, args.version))
+        return 0
+    if args.shape == "railway":
+        size_bytes = int((args.size_mb or 20) * 1024 * 1024)
+        if args.blocks:
+            pieces = railway(minor=args.version, blocks=args.blocks, defects=args.defects)
+        else:
+            pieces = railway(size_bytes, args.version, defects=args.defects)
+        write_pieces(args.output, pieces)
+        return 0
     if args.files:
         args.output.mkdir(parents=True, exist_ok=True)
         each = int((args.size_kb or 20) * 1024)

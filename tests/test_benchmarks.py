@@ -27,6 +27,18 @@ def _generator() -> ModuleType:
 GENERATE = _generator()
 
 
+def _railway() -> ModuleType:
+    spec = importlib.util.spec_from_file_location("railway", REPO / "benchmarks" / "railway.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["railway"] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+RAILWAY = _railway()
+
+
 @pytest.mark.parametrize("minor", [4, 7, 8])
 def test_generated_networks_are_clean(tmp_path: Path, minor: int) -> None:
     path = tmp_path / f"n-1.{minor}.xodr"
@@ -44,6 +56,57 @@ def test_generated_networks_pass_the_official_schema(tmp_path: Path, minor: int)
     report = Linter(default_registry(), LintOptions(schema=SHARED_SCHEMAS)).lint_path(path)
     assert report.findings == ()
     assert report.schema is not None and "built-in" not in report.schema
+
+
+@pytest.mark.parametrize("minor", [4, 7, 8])
+def test_the_railway_is_clean(tmp_path: Path, minor: int) -> None:
+    path = tmp_path / f"railway-1.{minor}.xodr"
+    GENERATE.write_pieces(path, RAILWAY.railway(minor=minor, blocks=70))
+    report = Linter(default_registry(), LintOptions()).lint_path(path)
+    assert report.findings == (), [f.message for f in report.findings][:3]
+
+
+@needs_shared
+@pytest.mark.parametrize("minor", [4, 7, 8])
+def test_the_railway_passes_the_official_schema(tmp_path: Path, minor: int) -> None:
+    path = tmp_path / f"railway-1.{minor}.xodr"
+    GENERATE.write_pieces(path, RAILWAY.railway(minor=minor, blocks=70))
+    report = Linter(default_registry(), LintOptions(schema=SHARED_SCHEMAS)).lint_path(path)
+    assert report.findings == (), [f.message for f in report.findings][:3]
+    assert report.schema is not None and "built-in" not in report.schema
+
+
+def test_the_railway_is_rail_dense(tmp_path: Path) -> None:
+    # every road a track: one rail lane each, linked to the next, a switch every 100-200 m
+    from xodrlint.document import load_bytes
+    from xodrlint.model import build_network
+
+    path = tmp_path / "railway.xodr"
+    GENERATE.write_pieces(path, RAILWAY.railway(minor=7, blocks=RAILWAY.BLOCKS_PER_CORRIDOR * 2))
+    network = build_network(load_bytes(path.read_bytes(), "railway.xodr").root)
+    assert network.roads and all(road.has_rail_lane for road in network.roads)
+    assert all(len(section.rail_lanes) == 1 for r in network.roads for section in r.lane_sections)
+    assert len(network.switches) == 3 * 2 * RAILWAY.BLOCKS_PER_CORRIDOR
+    assert sum(bool(road.links) for road in network.roads) >= len(network.roads) // 2
+    assert len(network.stations) >= 2 * (RAILWAY.BLOCKS_PER_CORRIDOR // 3) - 2
+
+
+@needs_shared
+def test_the_many_findings_railway_has_two_per_switch(tmp_path: Path) -> None:
+    path = tmp_path / "findings.xodr"
+    GENERATE.write_pieces(path, RAILWAY.railway(minor=7, blocks=40, defects=True))
+    report = Linter(default_registry(), LintOptions(schema=SHARED_SCHEMAS)).lint_path(path)
+    codes = [finding.code for finding in report.findings]
+    assert codes.count("XS006") == codes.count("SW012") == 3 * 40
+    assert len(codes) == 2 * 3 * 40
+
+
+@needs_shared
+def test_invalid_roads_fail_the_schema_once_each(tmp_path: Path) -> None:
+    path = tmp_path / "roads.xodr"
+    GENERATE.write_pieces(path, RAILWAY.invalid_roads(25))
+    report = Linter(default_registry(), LintOptions(schema=SHARED_SCHEMAS)).lint_path(path)
+    assert [(f.code, f.line) for f in report.findings] == [("XS006", 4 + n) for n in range(25)]
 
 
 def test_generation_is_deterministic(tmp_path: Path) -> None:

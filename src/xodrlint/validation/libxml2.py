@@ -14,6 +14,7 @@ from lxml import etree
 
 from xodrlint.document import Document, parser_line
 from xodrlint.findings import Hit
+from xodrlint.positions import TreePositions
 from xodrlint.validation.messages import Explained, TypeCatalog, explain_libxml2
 from xodrlint.validation.sets import SchemaLoadError, SchemaSet
 from xodrlint.validation.source import XS, read_schema_source
@@ -174,6 +175,7 @@ class _ElementLocator:
 
     def __init__(self, validation_root: etree._Element) -> None:
         self._root = validation_root
+        self._positions = TreePositions()
         self._by_tag_line: dict[tuple[str, int], list[etree._Element]] | None = None
 
     def find(
@@ -210,15 +212,18 @@ class _ElementLocator:
 
     def _by_path(self, path: str) -> etree._Element | None:
         # libxml2 paths start at the validation root: "/OpenDRIVE/road[1]/type" for a
-        # whole document, "/railroad/switch" for a subtree.
+        # whole document, "/railroad/switch" for a subtree. Plain steps are walked through
+        # children indexed once per parent (an XPath "road[1234]" scans the roads before
+        # it: quadratic in the findings of a large map); anything else goes to XPath.
+        found = self._positions.libxml2_path(self._root, path)
+        if found is not False:
+            return found if isinstance(found, etree._Element) else None
         steps = path.strip("/").split("/", 1)
-        if not steps[0]:
-            return None
         try:
-            found = self._root.xpath(steps[1]) if len(steps) > 1 else [self._root]
+            selected = self._root.xpath(steps[1]) if len(steps) > 1 else [self._root]
         except etree.XPathError:
             return None
-        first = found[0] if isinstance(found, list) and found else None
+        first = selected[0] if isinstance(selected, list) and selected else None
         return first if isinstance(first, etree._Element) else None
 
     def _index(self) -> dict[tuple[str, int], list[etree._Element]]:

@@ -28,6 +28,7 @@ from typing import Final, Generic, TypeVar, cast
 from lxml import etree
 
 from xodrlint.findings import Hit
+from xodrlint.positions import TreePositions
 
 _T = TypeVar("_T")
 
@@ -154,38 +155,39 @@ def start_hits(
 
 def send_hits(hits: list[Hit], root: etree._Element) -> list[SentHit]:
     """``hits`` about ``root``'s tree as values a forked child can send its parent."""
-    return [_send(hit, root) for hit in hits]
+    positions = TreePositions()
+    return [
+        (
+            _position(hit.element, root, positions),
+            hit.message,
+            hit.line,
+            hit.column,
+            hit.kind,
+        )
+        for hit in hits
+    ]
 
 
 def receive_hits(sent: list[SentHit], root: etree._Element) -> list[Hit]:
     """The hits :func:`send_hits` sent, with their elements found again in ``root``'s
     tree (the same tree: the child is a fork)."""
-    return [_receive(item, root) for item in sent]
+    positions = TreePositions()
+    return [
+        Hit(
+            positions.path_from(root, list(position)) if position is not None else None,
+            message,
+            line=line,
+            column=column,
+            kind=kind,
+        )
+        for position, message, line, column, kind in sent
+    ]
 
 
-def _send(hit: Hit, root: etree._Element) -> SentHit:
-    return (_position(hit.element, root), hit.message, hit.line, hit.column, hit.kind)
-
-
-def _receive(item: SentHit, root: etree._Element) -> Hit:
-    position, message, line, column, kind = item
-    element = None
-    if position is not None:
-        element = root
-        for index in position:
-            element = element[index]
-    return Hit(element, message, line=line, column=column, kind=kind)
-
-
-def _position(element: etree._Element | None, root: etree._Element) -> tuple[int, ...] | None:
+def _position(
+    element: etree._Element | None, root: etree._Element, positions: TreePositions
+) -> tuple[int, ...] | None:
     if element is None:
         return None
-    steps: list[int] = []
-    current = element
-    while current is not root:
-        parent = current.getparent()
-        if parent is None:  # not in this tree (a sibling of the root): no element to name
-            return None
-        steps.append(parent.index(current))
-        current = parent
-    return tuple(reversed(steps))
+    steps = positions.steps_to(element, root)
+    return None if steps is None else tuple(steps)
