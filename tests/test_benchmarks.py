@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib.util
+import os
 import sys
 from pathlib import Path
 from types import ModuleType
@@ -129,22 +130,91 @@ def _runner() -> ModuleType:
         sys.path.remove(str(REPO / "benchmarks"))
 
 
+RUN = _runner()
+
+
 def test_each_ratio_is_the_median_of_its_rounds(capsys: pytest.CaptureFixture[str]) -> None:
     # the machine doubles its speed after two rounds: per-round ratios stay 1.5, while the
     # ratio of the medians would not
-    run = _runner()
-    names = [
-        "xmllint 1.7", "xodrlint 1.7", "xodrlint 1.8", "xodrlint 1.7 x2",
-        "python imports", "xodrlint 0.2 MB", "batch -j 1", "batch -j 2", "1.7 no geometry",
-    ]  # fmt: skip
-    commands = [run.Command(name, []) for name in names]
+    names = {name for pair in RUN.FIGURES.values() for name in pair[:2]}
+    slower = {"xodrlint 1.8", "xodrlint 0.2 MB", "batch -j 1", "xodrlint rail 1.8"}
+    commands = [RUN.Command(name, []) for name in sorted(names)]
     for command in commands:
-        base = 3.0 if command.name in ("xodrlint 1.8", "xodrlint 0.2 MB", "batch -j 1") else 2.0
+        base = 3.0 if command.name in slower else 2.0
         command.seconds = [base, base, base / 2, base / 2, base / 2]
         command.peak_kb = [100, 100, 100, 100, 100]
-    figures = run.report(commands)
-    assert figures["R2"] == figures["R3"] == figures["B"] == 1.5
-    assert figures["G"] == 1.0
+    by = {command.name: command for command in commands}
+    by["xodrlint rail 1.7"].peak_kb = [130, 130, 130, 130, 260]
+    by["rail defects"].seconds = [5.0, 5.0, 2.5, 2.5, 2.5]
+    # F2 is per finding: 8 times the findings in 10 times the time is 1.25 a finding
+    by["findings ~40k"].seconds = [20.0, 20.0, 10.0, 10.0, 10.0]
+    by["findings ~40k"].findings = 40_000
+    by["findings ~5k"].findings = 5_000
+
+    figures = RUN.report(commands)
+
+    assert set(figures) == set(RUN.FIGURES) == set(RUN.TARGETS) - {"MR1 s", "MR1 GB"}
+    assert figures["R2"] == figures["R3"] == figures["B"] == figures["R2r"] == 1.5
+    assert figures["R1"] == figures["R1r"] == figures["G"] == figures["Mmix"] == 1.0
+    assert figures["M"] == 1.3
+    assert figures["F"] == 2.5
+    assert figures["F2"] == pytest.approx(1.25)
     out = capsys.readouterr().out
-    assert "R2    1.50   target <= 2.0   met" in out
-    assert "G     1.00   target <= 1.05   met" in out
+    assert "R2     1.50   target <= 1.5   met" in out
+    assert "R2r    1.50   target <= 1.6   met" in out
+    assert "B      1.50   target >= 1.6   MISSED" in out
+    assert "F      2.50   target <= 2.0   MISSED" in out
+    assert "F2     1.25   target <= 1.3   met" in out
+    assert "G      1.00   target <= 1.05   met" in out
+    assert "40000" in out and "5000" in out  # the counted findings, in the table
+
+
+def test_figures_leave_out_commands_that_did_not_run() -> None:
+    commands = [
+        RUN.Command(name, [], seconds=[3.0], peak_kb=[10])
+        for name in ("xodrlint 1.7", "xmllint 1.7")
+    ]
+    assert RUN.figures(commands) == {"R1": 1.0, "Mmix": 1.0}
+
+
+@pytest.mark.parametrize("only", ["all", "mixed", "rail", "findings"])
+def test_the_commands_of_a_round(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, only: str
+) -> None:
+    # the files are named, not written
+    monkeypatch.setattr(RUN.Inputs, "file", lambda self, name, pieces: self.folder / name)
+    monkeypatch.setattr(RUN.Inputs, "batch", lambda self: self.folder / "batch-200")
+    tools = RUN.Tools(["xodrlint", "check"], ["xmllint", "--noout"], {})
+    names = [command.name for command in RUN.commands(RUN.Inputs(tmp_path, 2.0), tools, only)]
+    assert len(names) == len(set(names))  # a command shared by two groups runs once a round
+    groups = {"mixed": ("R1", "R2", "R3", "Mmix", "S", "B", "G"), "rail": ("R1r", "R2r", "M")}
+    groups["findings"] = ("F", "F2")
+    wanted = [key for group, keys in groups.items() if only in ("all", group) for key in keys]
+    for key in wanted:
+        top, bottom, _ = RUN.FIGURES[key]
+        assert top in names and bottom in names, key
+    if only == "rail":
+        assert "xodrlint 1.7" not in names and "rail defects" not in names
+
+
+def test_findings_are_counted_from_the_json_report() -> None:
+    script = "import json, sys; json.dump({'findings': [1, 2, 3]}, open(sys.argv[1], 'w'))"
+    command = RUN.Command("counted", [sys.executable, "-c", script, os.devnull])
+    assert RUN.count_findings(command) == 3
+
+
+def test_a_run_past_its_time_limit_records_nothing() -> None:
+    command = RUN.Command("slow", [sys.executable, "-c", "import time; time.sleep(30)"])
+    assert command.run(timeout=0.3) is False
+    assert command.seconds == [] and command.peak_kb == []
+    assert RUN.roads_line(command, 0.3) == "MR1  slow: timed out after 0.3 s   MISSED"
+
+
+def test_the_roads_line() -> None:
+    command = RUN.Command(RUN._roads_name(1_000_000), [], seconds=[41.23], peak_kb=[1_953_125])
+    assert RUN.roads_line(command, 900) == (
+        "MR1  1M roads: 41.2 s, target <= 60 s; peak 2.00 GB, target <= 3 GB   met"
+    )
+    command.seconds = [61.0]
+    assert RUN.roads_line(command, 900).endswith("MISSED")
+    assert RUN._roads_name(20_000) == "20k roads" and RUN._roads_name(1234) == "1234 roads"

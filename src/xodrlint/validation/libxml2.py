@@ -6,7 +6,8 @@ from :mod:`~xodrlint.validation.messages`.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+import threading
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import Final
 
@@ -15,6 +16,7 @@ from lxml import etree
 from xodrlint.document import Document, parser_line
 from xodrlint.findings import Hit
 from xodrlint.positions import TreePositions
+from xodrlint.validation.libxml2_direct import DirectSchema, SchemaError, direct_schema
 from xodrlint.validation.messages import Explained, TypeCatalog, explain_libxml2
 from xodrlint.validation.sets import SchemaLoadError, SchemaSet
 from xodrlint.validation.source import XS, read_schema_source
@@ -97,11 +99,26 @@ class Libxml2Validator:
             self._schema = etree.XMLSchema(documents[0])
         except etree.XMLSchemaParseError as error:
             raise SchemaLoadError(f"cannot compile schema {entry}: {error}") from error
+        self._entry_root = documents[0].getroot()
+        self._direct: DirectSchema | bool | None = False  # compiled on first use
+        self._direct_lock = threading.Lock()
 
     def hits(self, doc: Document) -> Iterator[Hit]:
         assert doc.tree is not None
-        self._schema.validate(doc.tree)
-        yield from errors_to_hits(doc, self._schema.error_log, self.catalog, doc.tree.getroot())
+        direct = self._direct_schema()
+        if direct is not None:
+            errors = direct.validate(doc.tree)
+        else:
+            self._schema.validate(doc.tree)
+            errors = lxml_errors(self._schema.error_log)
+        yield from errors_to_hits(doc, errors, self.catalog, doc.tree.getroot())
+
+    def _direct_schema(self) -> DirectSchema | None:
+        """libxml2's own validation where it can run here (see ``libxml2_direct``)."""
+        with self._direct_lock:
+            if self._direct is False:
+                self._direct = direct_schema(self._entry_root)
+            return self._direct if isinstance(self._direct, DirectSchema) else None
 
 
 class BuiltinRailroadValidator:
@@ -133,12 +150,18 @@ class BuiltinRailroadValidator:
         schema = self._inner._schema
         for subtree in subtrees:
             if not schema.validate(subtree):
-                yield from errors_to_hits(doc, schema.error_log, self._inner.catalog, subtree)
+                errors = lxml_errors(schema.error_log)
+                yield from errors_to_hits(doc, errors, self._inner.catalog, subtree)
+
+
+def lxml_errors(log: etree._ListErrorLog) -> list[SchemaError]:
+    """The entries of lxml's error log, each with libxml2's XPath of its node."""
+    return [SchemaError(entry.message, entry.line, entry.path) for entry in log]
 
 
 def errors_to_hits(
     doc: Document,
-    log: etree._ListErrorLog,
+    errors: Iterable[SchemaError],
     catalog: TypeCatalog,
     validation_root: etree._Element,
 ) -> Iterator[Hit]:
@@ -146,10 +169,12 @@ def errors_to_hits(
     version = str(doc.declared) if doc.declared else None
     locator = _ElementLocator(validation_root)
     explained: list[tuple[Explained, etree._Element | None, int]] = []
-    for entry in log:
-        why = explain_libxml2(entry.message, catalog, version)
-        element = locator.find(entry.path, why, entry.line, _key_fields(catalog, why))
-        explained.append((why, element, entry.line))
+    for error in errors:
+        why = explain_libxml2(error.message, catalog, version)
+        element = error.element
+        if element is None:
+            element = locator.find(error.path, why, error.line, _key_fields(catalog, why))
+        explained.append((why, element, error.line))
     # A missing keyed attribute is one defect: libxml2 reports it twice (required, and
     # "not all fields of key ... evaluate to a node"); keep the first.
     missing = {id(el) for why, el, _ in explained if why.kind == "required" and el is not None}
