@@ -720,3 +720,27 @@ def test_cli_concise(monkeypatch: pytest.MonkeyPatch) -> None:
     )
     assert len(out.splitlines()) == 6
     assert cli("check", "-f", "concise", "examples/clean.xodr", code=0) == ""
+
+
+def test_json_is_written_as_the_indenting_encoder_writes_it() -> None:
+    # the findings are formatted by hand for speed: byte for byte what json.dump wrote
+    from xodrlint.findings import FileReport, Finding, Location, Severity
+    from xodrlint.formatters.json import as_document
+
+    odd = Finding(
+        path='maps/"odd"\\name\u00e9\x01.xodr',
+        line=70_000,
+        column=None,
+        code="XS006",
+        uid="asam.net:xodr:1.0.0:xml.valid_schema",
+        severity=Severity.WARNING,
+        message="'a' is \u2028 \"b\"\t\U0001f682",
+        xpath="/OpenDRIVE/road[@id='1']",
+        related=(Location(3, "/OpenDRIVE/road[@id='2']"), Location(4, '/x"y')),
+    )
+    extra = FileReport("x.xodr", findings=(odd, odd._replace(column=7, related=())))
+    empty = RunResult((FileReport("y.xodr"),), default_registry().metas, __version__)
+    linted = lint(BROKEN, RELATED, CLEAN)
+    for result in (linted._replace(reports=(*linted.reports, extra)), empty):
+        expected = json.dumps(as_document(result), indent=2, ensure_ascii=False) + "\n"
+        assert render("json", result) == expected

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 from typing import Final, TextIO
 
-from xodrlint.findings import FileReport, RunResult
+from xodrlint.findings import FileReport, Finding, RunResult
 
 #: Bumped only on incompatible changes to the shape below.
 FORMAT_VERSION: Final = 1
@@ -16,22 +16,38 @@ class JsonFormatter:
         del show_source, quiet  # the JSON document is always complete
 
     def render(self, result: RunResult, stream: TextIO) -> None:
-        json.dump(as_document(result), stream, indent=2, ensure_ascii=False)
-        stream.write("\n")
+        """Write ``json.dump(as_document(result), indent=2, ensure_ascii=False)``, byte
+        for byte, with each finding written as it comes: the indenting encoder is pure
+        Python (1.8 s for 200,000 findings) and the document of dicts a second copy of
+        every finding; the findings' own lines are formatted here, their strings encoded
+        by json's C escaper."""
+        document = as_document(result, findings=False)
+        stream.write("{")
+        separator = "\n"
+        for key, value in document.items():
+            stream.write(f"{separator}  {_string(key)}: ")
+            separator = ",\n"
+            if key == "findings":
+                _write_findings(result.findings, stream)
+            else:
+                stream.write(json.dumps(value, indent=2, ensure_ascii=False).replace("\n", "\n  "))
+        stream.write("\n}\n")
 
 
-def as_document(result: RunResult) -> dict[str, object]:
-    findings = result.findings
+def as_document(result: RunResult, *, findings: bool = True) -> dict[str, object]:
+    """The report as one JSON value; ``findings=False`` leaves the findings list empty
+    (:meth:`JsonFormatter.render` writes it finding by finding)."""
+    every = result.findings
     return {
         "format_version": FORMAT_VERSION,
         "tool": {"name": "xodrlint", "version": result.tool_version},
         "files": [_file(report) for report in result.reports],
-        "findings": [finding.as_dict() for finding in findings],
+        "findings": [finding.as_dict() for finding in every] if findings else [],
         "summary": {
             "files": len(result.reports),
             "files_with_findings": sum(1 for r in result.reports if r.findings),
             "unreadable_files": sum(1 for r in result.reports if r.error),
-            "findings": len(findings),
+            "findings": len(every),
             "by_severity": result.count_by_severity(),
         },
         "notes": list(result.notes),
@@ -50,3 +66,48 @@ def _file(report: FileReport) -> dict[str, object]:
         "findings": len(report.findings),
         "error": report.error,
     }
+
+
+#: How ``json.dumps(..., ensure_ascii=False)`` writes a string (C where available).
+_string: Final = json.encoder.encode_basestring
+
+
+def _write_findings(findings: tuple[Finding, ...], stream: TextIO) -> None:
+    """The findings list as ``json.dumps(indent=2)`` lays it out at depth 1."""
+    if not findings:
+        stream.write("[]")
+        return
+    stream.write("[")
+    separator = "\n"
+    for finding in findings:
+        stream.write(separator)
+        stream.write(_finding(finding))
+        separator = ",\n"
+    stream.write("\n  ]")
+
+
+def _finding(finding: Finding) -> str:
+    column = "null" if finding.column is None else str(finding.column)
+    if finding.related:
+        related = (
+            "[\n"
+            + ",\n".join(
+                f'        {{\n          "line": {location.line},\n'
+                f'          "xpath": {_string(location.xpath)}\n        }}'
+                for location in finding.related
+            )
+            + "\n      ]"
+        )
+    else:
+        related = "[]"
+    return (
+        f'    {{\n      "path": {_string(finding.path)},\n'
+        f'      "line": {finding.line},\n'
+        f'      "column": {column},\n'
+        f'      "code": {_string(finding.code)},\n'
+        f'      "uid": {_string(finding.uid)},\n'
+        f'      "severity": {_string(str(finding.severity))},\n'
+        f'      "message": {_string(finding.message)},\n'
+        f'      "xpath": {_string(finding.xpath)},\n'
+        f'      "related": {related}\n    }}'
+    )
