@@ -31,15 +31,14 @@ railway.py (every road a track), "mixed" the city-and-rail network of generate.p
 
 pip compiles bytecode when it installs a package; an editable install in an environment
 with PYTHONDONTWRITEBYTECODE does not, so the script compiles xodrlint's first. Linux
-carries the runner's own peak RSS (some 80 MB) over to every child it starts, so a smaller
-peak is shown as the runner's; with 20 MB networks the peaks of M and Mmix are well above.
+carries the runner's own peak RSS (some 20 MB, printed under the table) over to every child
+it starts, so a smaller peak is shown as the runner's.
 """
 
 from __future__ import annotations
 
 import argparse
 import compileall
-import json
 import os
 import resource
 import shutil
@@ -272,13 +271,21 @@ def commands(inputs: Inputs, tools: Tools, only: str = "all") -> list[Command]:
     return list(runs.values())
 
 
+#: Reads a JSON report in a process of its own: 40,000 findings in the runner would raise
+#: its peak RSS, and with it the floor of every child's (see above).
+COUNT = "import json, sys; print(len(json.load(open(sys.argv[1], 'rb'))['findings']))"
+
+
 def count_findings(command: Command) -> int:
     """The findings of one run of the command, read from its JSON report kept this once."""
     with tempfile.TemporaryDirectory() as folder:
         kept = Path(folder) / "report.json"
         argv = [str(kept) if argument == os.devnull else argument for argument in command.argv]
         subprocess.run(argv, env={**os.environ, **command.env}, check=True, capture_output=True)
-        count = len(json.loads(kept.read_bytes())["findings"])
+        counted = subprocess.run(
+            [sys.executable, "-c", COUNT, kept], check=True, capture_output=True, text=True
+        )
+        count = int(counted.stdout)
     if count == 0:
         raise SystemExit(f"{command.name}: no findings to divide its time by")
     return count

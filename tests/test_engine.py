@@ -232,3 +232,21 @@ def test_the_collector_is_paused_while_a_document_is_linted(
         assert gc.isenabled() is enabled  # as the caller left it
     finally:
         (gc.enable if was else gc.disable)()
+
+
+@pytest.mark.parametrize("keep", [True, False])
+def test_a_kept_document_is_frozen_out_of_the_collectors_sight(keep: bool) -> None:
+    # the first collection after a lint walked every object it made: a process that
+    # keeps the last document (the command line) moves them out of its sight instead
+    was = gc.isenabled()
+    gc.enable()
+    gc.collect()
+    gc.unfreeze()
+    try:
+        linter = Linter(load_registry([BUILTIN_POINT]), keep_last_document=keep)
+        linter.lint_path(REPO / "examples" / "broken.xodr")
+        assert (gc.get_freeze_count() > 0) is keep
+        assert gc.isenabled()
+    finally:
+        gc.unfreeze()
+        (gc.enable if was else gc.disable)()
