@@ -88,3 +88,59 @@ def test_non_opendrive_roots_give_an_empty_network() -> None:
         build_network(etree.fromstring(b"<OpenSCENARIO><road id='1'/></OpenSCENARIO>")).roads == ()
     )
     assert build_network(None).switches == ()
+
+
+def _same_layout_roads(count: int, offset: float) -> bytes:
+    road = (
+        '<road id="{n}" length="{length}" junction="-1"><planView><geometry s="0" x="{n}" '
+        'y="0" hdg="0" length="{length}"><line/></geometry></planView><lanes>'
+        f'<laneOffset s="0" a="{offset}" b="0" c="0" d="0"/><laneSection s="0">'
+        '<center><lane id="0" type="none" level="false"/></center><right>'
+        '<lane id="-1" type="rail" level="false"><width sOffset="0" a="1.5" b="0" c="0" '
+        'd="0"/></lane></right></laneSection></lanes></road>'
+    )
+    roads = "".join(road.format(n=n, length=100 + n % 2) for n in range(count))
+    return f'<OpenDRIVE><header revMajor="1" revMinor="7"/>{roads}</OpenDRIVE>'.encode()
+
+
+def test_roads_of_one_lane_layout_share_a_template() -> None:
+    network = build_network(load_bytes(_same_layout_roads(40, 0.75), "t.xodr").root)
+    first = network.roads[0]
+    assert all(road.lane_template is first for road in network.roads)
+    other = build_network(load_bytes(_same_layout_roads(2, 0.5), "u.xodr").root)
+    assert other.roads[1].lane_template is other.roads[1]  # the first one asked
+    assert other.roads[0].lane_template is other.roads[1]
+    assert other.roads[0].lane_template is not first  # a template is one file's
+
+
+def test_lane_rules_judge_a_layout_once_and_report_on_each_roads_own_lane(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from xodrlint.api import default_registry
+    from xodrlint.engine import Linter, LintOptions
+    from xodrlint.model import network as model_network
+
+    reads: list[object] = []
+    original = model_network._read_lanes
+
+    def counted(element: etree._Element) -> object:
+        reads.append(element)
+        return original(element)
+
+    monkeypatch.setattr(model_network, "_read_lanes", counted)
+    linter = Linter(default_registry(), LintOptions(select=("RL", "SW011", "TR")))
+    clean = linter.lint_bytes(_same_layout_roads(40, 0.75), "clean.xodr")
+    assert clean.findings == ()
+    assert len(reads) == 1  # the template's lanes; no road had anything to report
+    reads.clear()
+    off = linter.lint_bytes(_same_layout_roads(40, 0.95), "off.xodr")
+    assert sorted((f.code, f.xpath, f.message) for f in off.findings) == sorted(
+        (
+            "RL002",
+            f"/OpenDRIVE/road[@id='{n}']/lanes/laneSection/right/lane[@id='-1']",
+            f"the centre of rail lane '-1' of road '{n}' (lane section at s=0) is 0.2 m "
+            "from the reference line at s=0 (tolerance 0.05 m)",
+        )
+        for n in range(40)
+    )
+    assert len(reads) == 40  # the template's and then each reported road's own

@@ -107,7 +107,9 @@ class TrackGeometry:
         """The track's t at ``s``: the single rail/tram lane's centre, else the reference
         line. ``None`` when that lane's centre cannot be computed (a lane described by
         ``border``, an unreadable ``laneOffset`` or ``width``)."""
-        sections = road.lane_sections
+        # the lanes are the same, text for text, as those of the template road: read once
+        template = road.lane_template
+        sections = template.lane_sections
         if not sections:
             return 0.0  # a road without lanes: its reference line
         section = _section_at(sections, s)
@@ -116,7 +118,7 @@ class TrackGeometry:
         rails = section.rail_lanes
         if len(rails) != 1:
             return 0.0
-        value = centre_at(road, section, section.s or 0.0, rails[0], s)
+        value = centre_at(template, section, section.s or 0.0, rails[0], s)
         return value if value is not None and math.isfinite(value) else None
 
     def reference_line(self, road: Road) -> ReferenceLine | None:

@@ -141,10 +141,24 @@ class Road:
     ``has_rail_lane`` is known up front (one XPath over the whole tree finds those roads).
     """
 
-    __slots__ = ("_lanes", "_links", "element", "has_rail_lane", "id", "length")
+    __slots__ = (
+        "_lanes",
+        "_links",
+        "_template",
+        "_templates",
+        "element",
+        "has_rail_lane",
+        "id",
+        "length",
+    )
 
     def __init__(
-        self, element: etree._Element, id: str | None, length: float | None, has_rail_lane: bool
+        self,
+        element: etree._Element,
+        id: str | None,
+        length: float | None,
+        has_rail_lane: bool,
+        templates: dict[bytes, "Road"] | None = None,
     ) -> None:
         self.element = element
         self.id = id
@@ -152,6 +166,8 @@ class Road:
         self.has_rail_lane = has_rail_lane
         self._lanes: RoadLanes | None = None
         self._links: tuple[RoadLink, ...] | None = None
+        self._template: Road | None = None
+        self._templates = templates
 
     def __repr__(self) -> str:
         return f"Road(id={self.id!r}, length={self.length!r})"
@@ -161,6 +177,28 @@ class Road:
         if self._lanes is None:
             self._lanes = _read_lanes(self.element)
         return self._lanes
+
+    @property
+    def lane_template(self) -> "Road":
+        """One road of the file whose ``lanes`` read as this road's do, text for text (the
+        first one asked, maybe this road itself): every fact of its lanes but the
+        elements is this road's own. A railway repeats a few lane layouts over thousands
+        of tracks, so rules that judge lanes judge each layout once (and read a road's
+        own lanes only to report on them); reading every road's lanes was a third of
+        a rail-dense map's run."""
+        template = self._template
+        if template is None:
+            templates = self._templates
+            if templates is None:
+                template = self
+            else:
+                key = b"".join(
+                    etree.tostring(lanes, with_tail=False)
+                    for lanes in self.element.iterchildren("lanes")
+                )
+                template = templates.setdefault(key, self)
+            self._template = template
+        return template
 
     @property
     def links(self) -> tuple["RoadLink", ...]:
@@ -193,11 +231,17 @@ class Road:
         A section ends where the next one starts, the last one at the road's length; a
         section whose start or end is unreadable (or reversed) is left out.
         """
-        sections = self.lane_sections
-        for index, section in enumerate(sections):
-            following = sections[index + 1].s if index + 1 < len(sections) else self.length
-            if section.s is not None and following is not None and following >= section.s:
-                yield section, section.s, following
+        return section_ranges(self.lane_sections, self.length)
+
+
+def section_ranges(
+    sections: Sequence[LaneSection], length: float | None
+) -> Iterator[tuple[LaneSection, float, float]]:
+    """:meth:`Road.section_ranges` of ``sections`` on a road ``length`` long."""
+    for index, section in enumerate(sections):
+        following = sections[index + 1].s if index + 1 < len(sections) else length
+        if section.s is not None and following is not None and following >= section.s:
+            yield section, section.s, following
 
 
 class RoadLink(NamedTuple):
@@ -357,9 +401,12 @@ def build_network(
     stations: list[Station] = []
     found = _RAIL_ROADS(root)
     rail_roads = set(found) if isinstance(found, list) else set()
+    templates: dict[bytes, Road] = {}
     for child in root.iterchildren("road", "station"):
         if child.tag == "road":
-            road = Road(child, child.get("id"), number(child, "length"), child in rail_roads)
+            road = Road(
+                child, child.get("id"), number(child, "length"), child in rail_roads, templates
+            )
             roads.append(road)
             switches.extend(_read_switches(child, road))
         else:
@@ -428,19 +475,29 @@ def _cubic(entry: etree._Element, start_attribute: str) -> Cubic | None:
 
 def _read_switches(road_element: etree._Element, road: Road) -> list[Switch]:
     return [
-        Switch(
-            element=switch,
-            id=switch.get("id"),
-            name=switch.get("name"),
-            position=switch.get("position"),
-            road=road,
-            main_track=_track(switch.find("mainTrack")),
-            side_track=_track(switch.find("sideTrack")),
-            partner=_partner(switch.find("partner")),
-        )
+        _read_switch(switch, road)
         for railroad in road_element.iterchildren("railroad")
         for switch in railroad.iterchildren("switch")
     ]
+
+
+def _read_switch(switch: etree._Element, road: Road) -> Switch:
+    # the first of each child, in one pass: find() goes through ElementPath each time,
+    # three times a switch (a third of the model of a railway)
+    first: dict[str, etree._Element] = {}
+    for child in switch.iterchildren("mainTrack", "sideTrack", "partner"):
+        first.setdefault(str(child.tag), child)
+    get = switch.get
+    return Switch(
+        switch,
+        get("id"),
+        get("name"),
+        get("position"),
+        road,
+        _track(first.get("mainTrack")),
+        _track(first.get("sideTrack")),
+        _partner(first.get("partner")),
+    )
 
 
 def _track(element: etree._Element | None) -> TrackRef | None:

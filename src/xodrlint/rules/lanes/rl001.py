@@ -47,9 +47,10 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from xodrlint.findings import Hit, Severity
-from xodrlint.model import RailNetwork
+from xodrlint.model import RailNetwork, Road
 from xodrlint.rules import rule
 from xodrlint.rules._shared import metres, quoted
+from xodrlint.rules.lanes._templates import judged_once_per_layout
 
 
 @rule(
@@ -59,14 +60,20 @@ from xodrlint.rules._shared import metres, quoted
     severity=Severity.ERROR,
 )
 def more_than_one_rail_lane(network: RailNetwork) -> Iterator[Hit]:
-    for road in network.rail_roads:
-        for section in road.lane_sections:
+    for road, crowded in judged_once_per_layout(network, _crowded_sections):
+        for index in crowded:
+            section = road.lane_sections[index]
             rails = section.rail_lanes
-            if len(rails) > 1:
-                ids = ", ".join(quoted(lane.element.get("id")) for lane in rails)
-                where = f" at s={metres(section.s)}" if section.s is not None else ""
-                yield Hit(
-                    section.element,
-                    f"lane section{where} of road {quoted(road.id)} holds {len(rails)} rail "
-                    f"or tram lanes ({ids}); a track road has one",
-                )
+            ids = ", ".join(quoted(lane.element.get("id")) for lane in rails)
+            where = f" at s={metres(section.s)}" if section.s is not None else ""
+            yield Hit(
+                section.element,
+                f"lane section{where} of road {quoted(road.id)} holds {len(rails)} rail "
+                f"or tram lanes ({ids}); a track road has one",
+            )
+
+
+def _crowded_sections(template: Road, length: float | None) -> list[int]:
+    return [
+        index for index, section in enumerate(template.lane_sections) if len(section.rail_lanes) > 1
+    ]

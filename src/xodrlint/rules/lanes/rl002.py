@@ -61,7 +61,7 @@ lane section unjudged.
 from __future__ import annotations
 
 from collections.abc import Iterator
-from typing import Final
+from typing import Final, NamedTuple
 
 from xodrlint.findings import Hit, RuleOption, Severity
 from xodrlint.model import NON_TRAFFIC_LANE_TYPES, RAIL_LANE_TYPES, RailNetwork, Road
@@ -69,6 +69,7 @@ from xodrlint.model.lane_profiles import S_TOLERANCE, centre_terms, extremes
 from xodrlint.rules import Settings, rule
 from xodrlint.rules._shared import metres
 from xodrlint.rules.lanes._labels import lane_label
+from xodrlint.rules.lanes._templates import judged_once_per_layout, own_lane, ranged_sections
 
 TOLERANCE: Final = RuleOption(
     name="refline-tolerance",
@@ -97,22 +98,40 @@ def _is_track_road(road: Road) -> bool:
 )
 def refline_not_centered(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
     tolerance = settings[TOLERANCE.name]
-    for road in network.rail_roads:
-        if not _is_track_road(road):
-            continue
-        for section, start, end in road.section_ranges():
-            rails = section.rail_lanes
+
+    def off_centre(template: Road, length: float | None) -> list[_OffCentre]:
+        if not _is_track_road(template):
+            return []
+        found = []
+        for index, section, start, end in ranged_sections(template, length):
+            rails = [i for i, lane in enumerate(section.lanes) if lane.is_rail]
             if len(rails) != 1:
                 continue
-            terms = centre_terms(road, section, start, rails[0])
-            found = extremes(terms, start, end) if terms is not None else None
-            if found is None:
+            terms = centre_terms(template, section, start, section.lanes[rails[0]])
+            farthest = extremes(terms, start, end) if terms is not None else None
+            if farthest is None:
                 continue
-            distance, s = max((abs(found.low), found.s_low), (abs(found.high), found.s_high))
+            distance, s = max(
+                (abs(farthest.low), farthest.s_low), (abs(farthest.high), farthest.s_high)
+            )
             if distance > tolerance + S_TOLERANCE:
-                yield Hit(
-                    rails[0].element,
-                    f"the centre of {rails[0].type} {lane_label(rails[0], road, start)} is "
-                    f"{metres(distance)} m from the reference line at s={metres(s)} "
-                    f"(tolerance {metres(tolerance)} m)",
-                )
+                found.append(_OffCentre(index, rails[0], start, distance, s))
+        return found
+
+    for road, off in judged_once_per_layout(network, off_centre, by_length=True):
+        for found in off:
+            _, lane = own_lane(road, found.section, found.lane)
+            yield Hit(
+                lane.element,
+                f"the centre of {lane.type} {lane_label(lane, road, found.start)} is "
+                f"{metres(found.distance)} m from the reference line at s={metres(found.s)} "
+                f"(tolerance {metres(tolerance)} m)",
+            )
+
+
+class _OffCentre(NamedTuple):
+    section: int
+    lane: int
+    start: float
+    distance: float
+    s: float

@@ -50,14 +50,15 @@ not judged; the schema (XS006) reports unreadable values.
 from __future__ import annotations
 
 from collections.abc import Iterator
-from typing import Final
+from typing import Final, NamedTuple
 
 from xodrlint.findings import Hit, RuleOption, Severity
-from xodrlint.model import RailNetwork
+from xodrlint.model import RailNetwork, Road
 from xodrlint.model.lane_profiles import S_TOLERANCE, extremes, lane_width
 from xodrlint.rules import Settings, rule
 from xodrlint.rules._shared import metres
 from xodrlint.rules.lanes._labels import lane_label
+from xodrlint.rules.lanes._templates import judged_once_per_layout, own_lane, ranged_sections
 
 MIN_WIDTH: Final = RuleOption(
     name="rail-min-width",
@@ -75,14 +76,32 @@ MIN_WIDTH: Final = RuleOption(
 )
 def rail_lane_too_narrow(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
     minimum = settings[MIN_WIDTH.name]
-    for road in network.rail_roads:
-        for section, start, end in road.section_ranges():
-            for lane in section.rail_lanes:
+
+    def narrowest(template: Road, length: float | None) -> list[_Narrow]:
+        found = []
+        for index, section, start, end in ranged_sections(template, length):
+            for lane_index, lane in enumerate(section.lanes):
+                if not lane.is_rail:
+                    continue
                 width = lane_width(lane, start)
-                found = extremes([(1.0, width)], start, end) if width is not None else None
-                if found is not None and found.low < minimum - S_TOLERANCE:
-                    yield Hit(
-                        lane.element,
-                        f"{lane.type} {lane_label(lane, road, start)} is {metres(found.low)} m wide "
-                        f"at s={metres(found.s_low)}, narrower than {metres(minimum)} m",
-                    )
+                low = extremes([(1.0, width)], start, end) if width is not None else None
+                if low is not None and low.low < minimum - S_TOLERANCE:
+                    found.append(_Narrow(index, lane_index, start, low.low, low.s_low))
+        return found
+
+    for road, narrow in judged_once_per_layout(network, narrowest, by_length=True):
+        for found in narrow:
+            _, lane = own_lane(road, found.section, found.lane)
+            yield Hit(
+                lane.element,
+                f"{lane.type} {lane_label(lane, road, found.start)} is {metres(found.width)} m "
+                f"wide at s={metres(found.s)}, narrower than {metres(minimum)} m",
+            )
+
+
+class _Narrow(NamedTuple):
+    section: int
+    lane: int
+    start: float
+    width: float
+    s: float

@@ -52,9 +52,10 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from xodrlint.findings import Hit, Severity
-from xodrlint.model import NON_TRAFFIC_LANE_TYPES, RAIL_LANE_TYPES, RailNetwork
+from xodrlint.model import NON_TRAFFIC_LANE_TYPES, RAIL_LANE_TYPES, RailNetwork, Road
 from xodrlint.rules import rule
 from xodrlint.rules.lanes._labels import lane_label
+from xodrlint.rules.lanes._templates import judged_once_per_layout, own_lane
 
 
 @rule(
@@ -64,19 +65,28 @@ from xodrlint.rules.lanes._labels import lane_label
     severity=Severity.WARNING,
 )
 def rail_road_shared(network: RailNetwork) -> Iterator[Hit]:
-    for road in network.rail_roads:
-        for section in road.lane_sections:
-            traffic = [
-                lane
-                for lane in section.lanes
-                if lane.side != "center"
-                and lane.type is not None
-                and lane.type not in RAIL_LANE_TYPES
-                and lane.type not in NON_TRAFFIC_LANE_TYPES
-            ]
-            if traffic:
-                yield Hit(
-                    traffic[0].element,
-                    f"{lane_label(traffic[0], road, section.s)} is a '{traffic[0].type}' lane "
-                    "on a road with a rail or tram lane; a railroad track needs its own road",
-                )
+    for road, traffic in judged_once_per_layout(network, _first_traffic_lanes):
+        for section_index, lane_index in traffic:
+            section, lane = own_lane(road, section_index, lane_index)
+            yield Hit(
+                lane.element,
+                f"{lane_label(lane, road, section.s)} is a '{lane.type}' lane "
+                "on a road with a rail or tram lane; a railroad track needs its own road",
+            )
+
+
+def _first_traffic_lanes(template: Road, length: float | None) -> list[tuple[int, int]]:
+    """(lane section, lane) of the first traffic lane of each lane section that has one."""
+    found = []
+    for section_index, section in enumerate(template.lane_sections):
+        traffic = [
+            lane_index
+            for lane_index, lane in enumerate(section.lanes)
+            if lane.side != "center"
+            and lane.type is not None
+            and lane.type not in RAIL_LANE_TYPES
+            and lane.type not in NON_TRAFFIC_LANE_TYPES
+        ]
+        if traffic:
+            found.append((section_index, traffic[0]))
+    return found
