@@ -6,6 +6,7 @@ cannot be evaluated gives silence, never a traceback."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import pytest
 
@@ -306,3 +307,56 @@ def test_a_message_never_reads_as_its_limit() -> None:
     assert beyond(5.0000001, 5.0, 2) == "5.0000001"
     assert degrees(math.tau - 1e-7) == "0"
     assert degrees(-0.1) == "354.27"  # a direction reads on the circle
+
+
+def _rail_case_files() -> list[Path]:
+    files = sorted((REPO / "rules").glob("*/*.xodr"))
+    return files + (sorted(CORPUS_RAIL.glob("*.xodr")) if CORPUS_RAIL.is_dir() else [])
+
+
+def test_a_constant_layout_gives_the_lateral_position_the_general_path_gives() -> None:
+    # the shortcut for one lane section of constant offset and widths must agree with
+    # centre_at everywhere along the road, for every layout of the cases and the corpus
+    from xodrlint.geometry import tracks
+
+    shortcuts = 0
+    for path in _rail_case_files():
+        root = load_bytes(path.read_bytes(), path.name).root
+        if root is None or root.tag != "OpenDRIVE":
+            continue
+        for road in build_network(root).roads:
+            constant = tracks._constant_lateral(road)
+            if constant is None:
+                continue
+            shortcuts += 1
+            start = road.lane_sections[0].s or 0.0
+            for s in (start, start + 0.5, start + 17.25, start + 1000.0):
+                assert tracks._lateral_at(road.lane_sections, road, s) == constant, (path, road)
+    assert shortcuts > 20
+
+
+def test_layouts_that_vary_take_the_general_path() -> None:
+    from xodrlint.geometry import tracks
+
+    def road_with(lanes: str) -> object:
+        text = (
+            '<OpenDRIVE><header revMajor="1" revMinor="7"/><road id="1" length="100" '
+            f'junction="-1"><lanes>{lanes}</lanes></road></OpenDRIVE>'
+        )
+        return build_network(load_bytes(text.encode(), "t.xodr").root).roads[0]
+
+    rail = '<right><lane id="-1" type="rail"><width sOffset="{w}" a="1.5" b="{b}" c="0" d="0"/></lane></right>'
+    section = '<laneSection s="0"><center><lane id="0" type="none"/></center>{rail}</laneSection>'
+    varying = [
+        '<laneOffset s="0" a="0.75" b="0.01" c="0" d="0"/>'
+        + section.format(rail=rail.format(w=0, b=0)),
+        '<laneOffset s="5" a="0.75" b="0" c="0" d="0"/>'
+        + section.format(rail=rail.format(w=0, b=0)),
+        section.format(rail=rail.format(w=0, b=0.001)),
+        section.format(rail=rail.format(w=2, b=0)),
+        section.format(rail=rail.format(w=0, b=0)) * 2,
+    ]
+    for lanes in varying:
+        assert tracks._constant_lateral(road_with(lanes)) is None, lanes  # type: ignore[arg-type]
+    steady = section.format(rail=rail.format(w=0, b=0))
+    assert tracks._constant_lateral(road_with(steady)) == -0.75  # type: ignore[arg-type]

@@ -25,7 +25,7 @@ from typing import Final, NamedTuple
 
 from xodrlint.geometry.curves import MAX_COORDINATE, Record
 from xodrlint.geometry.planview import ReferenceLine, reference_line
-from xodrlint.model import LaneSection, RailNetwork, Road
+from xodrlint.model import Cubic, LaneSection, RailNetwork, Road
 from xodrlint.model.lane_profiles import S_TOLERANCE, centre_at
 
 #: Headings beyond this many radians have lost their meaning to rounding (an ulp of 1e6
@@ -70,6 +70,8 @@ class TrackGeometry:
     def __init__(self, network: RailNetwork) -> None:
         del network  # taken as RailNetwork.shared makes it; roads are passed per call
         self._lines: dict[Road, ReferenceLine | None] = {}
+        # per lane layout (a template road): the track's t where it is the same all along
+        self._constant_lateral: dict[Road, float | None] = {}
         # a switch's point is asked for by the map as well as the rules
         self._points: dict[tuple[Road, float], TrackPoint | None] = {}
 
@@ -102,24 +104,20 @@ class TrackGeometry:
             return None
         return TrackPoint(x, y, pose.hdg)
 
-    @staticmethod
-    def _lateral(road: Road, s: float) -> float | None:
+    def _lateral(self, road: Road, s: float) -> float | None:
         """The track's t at ``s``: the single rail/tram lane's centre, else the reference
         line. ``None`` when that lane's centre cannot be computed (a lane described by
         ``border``, an unreadable ``laneOffset`` or ``width``)."""
         # the lanes are the same, text for text, as those of the template road: read once
         template = road.lane_template
+        try:
+            constant = self._constant_lateral[template]
+        except KeyError:
+            constant = self._constant_lateral[template] = _constant_lateral(template)
         sections = template.lane_sections
-        if not sections:
-            return 0.0  # a road without lanes: its reference line
-        section = _section_at(sections, s)
-        if section is None:
-            return None  # an unreadable section start, or s before the first section
-        rails = section.rail_lanes
-        if len(rails) != 1:
-            return 0.0
-        value = centre_at(template, section, section.s or 0.0, rails[0], s)
-        return value if value is not None and math.isfinite(value) else None
+        if constant is not None and s >= (sections[0].s or 0.0) - S_TOLERANCE:
+            return constant
+        return _lateral_at(sections, template, s)
 
     def reference_line(self, road: Road) -> ReferenceLine | None:
         """The road's reference line when every record of it can be evaluated."""
@@ -133,6 +131,56 @@ class TrackGeometry:
             found = line if usable and all(map(_evaluable, line.records)) else None
             self._lines[road] = found
             return found
+
+
+def _lateral_at(sections: Sequence[LaneSection], template: Road, s: float) -> float | None:
+    if not sections:
+        return 0.0  # a road without lanes: its reference line
+    section = _section_at(sections, s)
+    if section is None:
+        return None  # an unreadable section start, or s before the first section
+    rails = section.rail_lanes
+    if len(rails) != 1:
+        return 0.0
+    value = centre_at(template, section, section.s or 0.0, rails[0], s)
+    return value if value is not None and math.isfinite(value) else None
+
+
+def _constant_lateral(template: Road) -> float | None:
+    """The track's t of a road with one lane section whose offset and widths (up to its
+    rail lane) are each one constant entry from the section's start: the same at every s
+    from there on (nearly every track). ``None`` for any other layout."""
+    lanes = template.lanes
+    sections = lanes.sections
+    start = sections[0].s if len(sections) == 1 else None
+    if start is None or not lanes.offsets_complete:
+        return None
+    section = sections[0]
+    if len(lanes.offsets) > 1 or not all(_constant_from(c, start, 0.0) for c in lanes.offsets):
+        return None
+    rails = section.rail_lanes
+    if len(rails) == 1:
+        rail = rails[0]
+        depth = abs(rail.id) if rail.id is not None else 0
+        inner = [
+            lane
+            for lane in section.lanes
+            if lane.side == rail.side and lane.id is not None and 0 < abs(lane.id) <= depth
+        ]
+        if len(inner) != depth or not all(
+            lane.widths_complete
+            and len(lane.widths) == 1
+            and _constant_from(lane.widths[0], 0.0, 0.0)
+            for lane in inner
+        ):
+            return None
+    return _lateral_at(sections, template, start)
+
+
+def _constant_from(cubic: Cubic, start: float, origin: float) -> bool:
+    """Whether ``cubic`` is one constant that holds from ``start`` on (its own start,
+    relative to ``origin``, at or before it)."""
+    return cubic.b == 0 and cubic.c == 0 and cubic.d == 0 and cubic.start + origin <= start
 
 
 def _evaluable(record: Record) -> bool:
