@@ -213,3 +213,13 @@ def test_write_baseline_refuses_to_overwrite_an_input(
     assert result.exit_code == 2
     assert "--write-baseline a.xodr: is one of the inputs" in result.stderr
     assert (tmp_path / "a.xodr").read_bytes() == BROKEN.read_bytes()
+
+
+@pytest.mark.parametrize("codec", ["utf-8", "utf-16", "utf-32-be"])
+def test_only_a_file_with_a_directive_marker_has_its_comments_walked(codec: str) -> None:
+    from xodrlint.suppress import may_hold_directives
+
+    named = '<OpenDRIVE><header name="checked by xodrlint"/><!-- c --></OpenDRIVE>'
+    holding = "<OpenDRIVE><!-- xodrlint: ignore[SW006] why --><road/></OpenDRIVE>"
+    assert not may_hold_directives(named.encode(codec))
+    assert may_hold_directives(holding.encode(codec))

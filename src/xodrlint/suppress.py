@@ -25,8 +25,10 @@ DIRECTIVE: Final = re.compile(
 )
 FILE_SCOPE: Final = "ignore-file"
 #: Every directive holds this word, in whatever encoding the file is in.
+#: A directive starts "xodrlint:" (a map merely naming the tool, as the benchmark's header
+#: does, holds none).
 _MARKERS: Final = tuple(
-    "xodrlint".encode(codec)
+    "xodrlint:".encode(codec)
     for codec in ("utf-8", "utf-16-le", "utf-16-be", "utf-32-le", "utf-32-be")
 )
 
