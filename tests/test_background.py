@@ -62,18 +62,21 @@ def test_a_threads_error_is_raised_where_the_result_is_asked_for(
         pending.result()
 
 
-@pytest.mark.parametrize("size_and_switch", ["small", "switched off"])
-def test_small_documents_and_the_switch_keep_the_work_in_the_caller(
-    monkeypatch: pytest.MonkeyPatch, size_and_switch: str
-) -> None:
-    size = background.MIN_BYTES * 10
-    if size_and_switch == "small":
-        size = background.MIN_BYTES - 1
-    else:
-        monkeypatch.setenv(background.ENV, "0")
+def test_the_switch_keeps_the_work_in_the_caller(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv(background.ENV, "0")
     caller = threading.current_thread()
-    pending = background.start(threading.current_thread, size=size, thread_safe=True)
+    pending = background.start(threading.current_thread, size=10**9, thread_safe=True)
     assert pending.result() is caller
+
+
+def test_thread_safe_work_of_any_size_runs_beside_the_caller() -> None:
+    # a thread costs a tenth of a millisecond: a pre-commit run's small map overlaps its
+    # validation with the rules too
+    caller = threading.current_thread()
+    pending = background.start(threading.current_thread, size=1, thread_safe=True)
+    assert pending.result() is not caller
+    unsafe = background.start(threading.current_thread, size=1, thread_safe=False)
+    assert unsafe.result() is caller  # too small to fork: done on demand
 
 
 def test_small_documents_and_the_switch_keep_one_process(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -91,6 +91,33 @@ def test_ways_of_starting_xodrlint_in_one_environment_keep_their_own_keys(
     assert scanned == ["True", "True", "False", "False"]
 
 
+def test_a_key_in_use_is_not_evicted_by_others(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # the most recently used key goes first: KEYS_KEPT other ways of starting, each used
+    # once, must not push out the one used between them
+    monkeypatch.setenv(plugins.CACHE_ENV, str(tmp_path / "cache"))
+    scans: list[int] = []
+    real_scan = plugins._scan
+
+    def counted() -> dict[str, list[list[str]]]:
+        scans.append(1)
+        return real_scan()
+
+    monkeypatch.setattr(plugins, "_scan", counted)
+    keys = iter(range(100))
+    main = [["main"]]
+    monkeypatch.setattr(plugins, "_environment_key", lambda: main)
+    plugins.installed("xodrlint.rules")
+    for _ in range(plugins.KEYS_KEPT * 2):
+        other = [[f"other {next(keys)}"]]
+        monkeypatch.setattr(plugins, "_environment_key", lambda other=other: other)
+        plugins.installed("xodrlint.rules")
+        monkeypatch.setattr(plugins, "_environment_key", lambda: main)
+        plugins.installed("xodrlint.rules")
+    assert len(scans) == 1 + plugins.KEYS_KEPT * 2  # main was scanned once
+
+
 def test_a_cache_of_an_older_format_is_replaced(tmp_path: Path) -> None:
     path = plugins.cache_path()
     path.parent.mkdir(parents=True, exist_ok=True)

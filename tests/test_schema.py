@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -251,3 +253,49 @@ def test_keyref_errors_past_line_65535_are_taken_over(tmp_path: Path) -> None:
     found = _official(text, tmp_path)
     assert [code for _, code in found if code != "SW002"] == ["SW004"]
     assert all(line > 70_000 for line, _ in found)
+
+
+def test_a_broken_schema_is_said_once(tmp_path: Path) -> None:
+    # libxml2 prints a schema's errors to stderr unless told otherwise: only our line
+    bad = tmp_path / "bad.xsd"
+    bad.write_text(
+        "<xs:schema xmlns:xs='http://www.w3.org/2001/XMLSchema'><xs:element/></xs:schema>"
+    )
+    done = subprocess.run(
+        [sys.executable, "-m", "xodrlint", "check", "--schema", str(bad), str(REPO / "examples")],
+        check=False,
+        capture_output=True,
+        text=True,
+    )
+    assert done.returncode == 2
+    assert done.stderr.splitlines() == [
+        f"xodrlint: cannot compile schema {bad}: Element "
+        "'{http://www.w3.org/2001/XMLSchema}element': The attribute 'name' is required "
+        "but missing., line 1"
+    ]
+
+
+@needs_shared
+@pytest.mark.parametrize("threads", ["1", "0"])
+def test_the_schema_compiles_while_the_document_is_parsed(
+    monkeypatch: pytest.MonkeyPatch, threads: str
+) -> None:
+    # the header is read off the bytes and the compile runs in a thread beside the parse
+    # (XODRLINT_FORK=0: in the caller); the findings are the same
+    import threading
+
+    from xodrlint.validation import libxml2
+
+    monkeypatch.setenv("XODRLINT_FORK", threads)
+    compiled_in: list[str] = []
+    real = libxml2.Libxml2Validator.__init__
+
+    def init(self: libxml2.Libxml2Validator, entry: Path) -> None:
+        compiled_in.append(threading.current_thread().name)
+        real(self, entry)
+
+    monkeypatch.setattr(libxml2.Libxml2Validator, "__init__", init)
+    report = _lint(REPO / "examples" / "broken.xodr", SHARED_SCHEMAS)
+    assert compiled_in == (["xodrlint-compile"] if threads == "1" else ["MainThread"])
+    assert report.schema is not None and "1.7" in report.schema
+    assert [f.code for f in report.findings].count("XS006") >= 3

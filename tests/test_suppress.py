@@ -223,3 +223,10 @@ def test_only_a_file_with_a_directive_marker_has_its_comments_walked(codec: str)
     holding = "<OpenDRIVE><!-- xodrlint: ignore[SW006] why --><road/></OpenDRIVE>"
     assert not may_hold_directives(named.encode(codec))
     assert may_hold_directives(holding.encode(codec))
+
+
+def test_the_directive_markers_are_the_encodings_of_its_start() -> None:
+    from xodrlint.suppress import _MARKERS
+
+    codecs = ("utf-8", "utf-16-le", "utf-16-be", "utf-32-le", "utf-32-be")
+    assert tuple("xodrlint:".encode(codec) for codec in codecs) == _MARKERS

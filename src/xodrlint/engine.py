@@ -19,7 +19,7 @@ from typing import Final, NamedTuple
 from lxml import etree
 
 from xodrlint.config import DEFAULT_RULE_TIMEOUT
-from xodrlint.document import Document, load_bytes
+from xodrlint.document import Document, Version, load_bytes
 from xodrlint.files import NotRegularFile, read_regular_file
 from xodrlint.findings import (
     NO_ENTRIES,
@@ -237,6 +237,12 @@ class Linter:
             return self._lint_bytes(data, path, external)
 
     def _lint_bytes(self, data: bytes, path: str, external: ExternalIgnores) -> FileReport:
+        if SCHEMA_RULE in self._codes:
+            declared = _HEADER_VERSION.search(data, 0, WARM_UP_BYTES)
+            if declared is not None:  # compiled while the document is parsed
+                self._validators.compile_soon(
+                    Version(int(declared["major"]), int(declared["minor"]))
+                )
         doc = load_bytes(data, path)
         self._last_document = None
         problems: dict[str, list[Hit]] = {code: list(hits) for code, hits in doc.problems.items()}

@@ -63,13 +63,19 @@ def installed(group: str) -> list[Plugin]:
     key = _environment_key()
     path = cache_path()
     entries = _cached_entries(path)
-    for entry in entries:
+    for index, entry in enumerate(entries):
         if entry["key"] == key:
+            if index:  # the most recently used first: a fifth way of starting evicts the oldest
+                _keep(path, [entry, *entries[:index], *entries[index + 1 :]])
             return [Plugin(name, value, group) for name, value in entry["groups"].get(group, [])]
     groups = _scan()
-    kept = [{"key": key, "groups": groups}, *entries][:KEYS_KEPT]
-    cache.write(path, json.dumps({"format": FORMAT, "entries": kept}).encode())
+    _keep(path, [{"key": key, "groups": groups}, *entries])
     return [Plugin(name, value, group) for name, value in groups.get(group, [])]
+
+
+def _keep(path: Path, entries: list[dict[str, Any]]) -> None:
+    kept = entries[:KEYS_KEPT]
+    cache.write(path, json.dumps({"format": FORMAT, "entries": kept}).encode())
 
 
 def _cached_entries(path: Path) -> list[dict[str, Any]]:

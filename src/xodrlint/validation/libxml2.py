@@ -16,7 +16,7 @@ from lxml import etree
 from xodrlint.document import Document, parser_line
 from xodrlint.findings import Hit
 from xodrlint.positions import TreePositions
-from xodrlint.validation.libxml2_direct import DirectSchema, SchemaError, direct_schema
+from xodrlint.validation.libxml2_direct import SchemaError, direct_schema
 from xodrlint.validation.messages import Explained, TypeCatalog, explain_libxml2
 from xodrlint.validation.sets import SchemaLoadError, SchemaSet
 from xodrlint.validation.source import XS, read_schema_source
@@ -88,37 +88,57 @@ class Libxml2Validator:
     """An XSD 1.0 schema set compiled by libxml2."""
 
     def __init__(self, entry: Path) -> None:
-        documents = read_schema_source(entry).trees
-        fix_known_schema_bugs(documents[0].getroot())
-        self.catalog = TypeCatalog.from_documents(d.getroot() for d in documents)
+        self._documents = read_schema_source(entry).trees
+        root = self._documents[0].getroot()
+        fix_known_schema_bugs(root)
         #: libxml2 reads a whole document with the GIL released (see
         #: ``workers.background``), unless the set has types whose validation writes
         #: into the document
-        self.thread_safe = not any(writes_while_validating(d.getroot()) for d in documents)
-        try:
-            self._schema = etree.XMLSchema(documents[0])
-        except etree.XMLSchemaParseError as error:
-            raise SchemaLoadError(f"cannot compile schema {entry}: {error}") from error
-        self._entry_root = documents[0].getroot()
-        self._direct: DirectSchema | bool | None = False  # compiled on first use
-        self._direct_lock = threading.Lock()
+        self.thread_safe = not any(writes_while_validating(d.getroot()) for d in self._documents)
+        self._lock = threading.Lock()
+        self._catalog: TypeCatalog | None = None
+        # libxml2's own validation where it can run here (see ``libxml2_direct``);
+        # lxml's compiles only where it cannot, or for the subtrees of the built-in
+        # schema: each compile costs a small map's run 2.5 ms
+        self._direct = direct_schema(root)
+        self._lxml: etree.XMLSchema | None = None
+        if self._direct is None:
+            self._lxml = _compile(self._documents[0], entry)
+        self._entry = entry
+
+    @property
+    def catalog(self) -> TypeCatalog:
+        """The set's types, for explaining errors: made on the first error."""
+        with self._lock:
+            if self._catalog is None:
+                self._catalog = TypeCatalog.from_documents(d.getroot() for d in self._documents)
+            return self._catalog
+
+    @property
+    def lxml_schema(self) -> etree.XMLSchema:
+        """The set compiled by lxml (validates subtrees: the built-in schema)."""
+        with self._lock:
+            if self._lxml is None:
+                self._lxml = _compile(self._documents[0], self._entry)
+            return self._lxml
 
     def hits(self, doc: Document) -> Iterator[Hit]:
         assert doc.tree is not None
-        direct = self._direct_schema()
-        if direct is not None:
-            errors = direct.validate(doc.tree)
+        if self._direct is not None:
+            errors = self._direct.validate(doc.tree)
         else:
-            self._schema.validate(doc.tree)
-            errors = lxml_errors(self._schema.error_log)
-        yield from errors_to_hits(doc, errors, self.catalog, doc.tree.getroot())
+            schema = self.lxml_schema
+            schema.validate(doc.tree)
+            errors = lxml_errors(schema.error_log)
+        if errors:
+            yield from errors_to_hits(doc, errors, self.catalog, doc.tree.getroot())
 
-    def _direct_schema(self) -> DirectSchema | None:
-        """libxml2's own validation where it can run here (see ``libxml2_direct``)."""
-        with self._direct_lock:
-            if self._direct is False:
-                self._direct = direct_schema(self._entry_root)
-            return self._direct if isinstance(self._direct, DirectSchema) else None
+
+def _compile(document: etree._ElementTree, entry: Path) -> etree.XMLSchema:
+    try:
+        return etree.XMLSchema(document)
+    except etree.XMLSchemaParseError as error:
+        raise SchemaLoadError(f"cannot compile schema {entry}: {error}") from error
 
 
 class BuiltinRailroadValidator:
@@ -147,7 +167,7 @@ class BuiltinRailroadValidator:
                     "railroad content starts with OpenDRIVE 1.4",
                 )
             return
-        schema = self._inner._schema
+        schema = self._inner.lxml_schema
         for subtree in subtrees:
             if not schema.validate(subtree):
                 errors = lxml_errors(schema.error_log)

@@ -92,11 +92,19 @@ _SIGNATURES: Final = {
     "xmlSchemaNewDocParserCtxt": (ctypes.c_void_p, (ctypes.c_void_p,)),
     "xmlSchemaParse": (ctypes.c_void_p, (ctypes.c_void_p,)),
     "xmlSchemaFreeParserCtxt": (None, (ctypes.c_void_p,)),
+    "xmlSchemaSetParserStructuredErrors": (None, (ctypes.c_void_p, _HANDLER, ctypes.c_void_p)),
     "xmlSchemaNewValidCtxt": (ctypes.c_void_p, (ctypes.c_void_p,)),
     "xmlSchemaFreeValidCtxt": (None, (ctypes.c_void_p,)),
     "xmlSchemaSetValidStructuredErrors": (None, (ctypes.c_void_p, _HANDLER, ctypes.c_void_p)),
     "xmlSchemaValidateDoc": (ctypes.c_int, (ctypes.c_void_p, ctypes.c_void_p)),
 }
+
+
+def _ignore(_: object, __: object) -> None:
+    """An error handler that keeps libxml2's messages to itself."""
+
+
+_QUIET: Final = _HANDLER(_ignore)
 
 
 def _c_node(element: etree._Element) -> int:
@@ -151,8 +159,12 @@ class DirectSchema:
         document = _XmlNode.from_address(_c_node(schema_root)).doc
         self._copy = library.xmlCopyDoc(document, 1)
         parser = library.xmlSchemaNewDocParserCtxt(self._copy)
-        self._schema = library.xmlSchemaParse(parser) if parser else None
+        self._schema = None
         if parser:
+            # a schema that does not compile is said once, by lxml's compile (with its
+            # message); here libxml2 would print its errors to stderr
+            library.xmlSchemaSetParserStructuredErrors(parser, _QUIET, None)
+            self._schema = library.xmlSchemaParse(parser)
             library.xmlSchemaFreeParserCtxt(parser)
 
     @property

@@ -13,11 +13,13 @@ validator error becomes one XS006 hit on the element it is about.
 
 from __future__ import annotations
 
+import contextlib
+import threading
 from collections.abc import Iterator
 from pathlib import Path
 from typing import NamedTuple, Protocol
 
-from xodrlint.document import Document
+from xodrlint.document import Document, Version, nearest_published
 from xodrlint.findings import Hit
 from xodrlint.validation.libxml2 import BuiltinRailroadValidator, Libxml2Validator
 from xodrlint.validation.sets import SchemaFinder, SchemaSet
@@ -45,14 +47,37 @@ class SchemaValidators:
         self._finder = finder
         self._compiled: dict[tuple[Path, bool], Validator] = {}
         self._found: dict[tuple[int, int], SchemaSet | None] = {}
+        # held while a schema compiles: the compile started by compile_soon and the
+        # validation that needs it take turns
+        self._compiling = threading.Lock()
 
     def schema_for(self, doc: Document) -> SchemaSet | None:
         if doc.effective is None:
             return None
-        version = (doc.effective.major, doc.effective.minor)
-        if version not in self._found:  # finding walks schema folders: once per version
-            self._found[version] = self._finder.find(*version)
-        return self._found[version]
+        return self._schema_of_version(doc.effective)
+
+    def _schema_of_version(self, version: Version) -> SchemaSet | None:
+        key = (version.major, version.minor)
+        if key not in self._found:  # finding walks schema folders: once per version
+            self._found[key] = self._finder.find(*key)
+        return self._found[key]
+
+    def compile_soon(self, declared: Version) -> None:
+        """Compile the schema of the ``declared`` version (read off the bytes before
+        parsing) in a thread, while the caller parses the document: both mostly wait on
+        libxml2, which lets go of the GIL, and a small map's run is a few milliseconds
+        shorter. Anything that goes wrong is left for :meth:`start` to meet again."""
+        if not background.threads_allowed():
+            return
+        schema = self._schema_of_version(nearest_published(declared))
+        if schema is None or (schema.entry, schema.is_builtin) in self._compiled:
+            return
+
+        def compile_quietly() -> None:
+            with contextlib.suppress(Exception):
+                self._validator(schema)
+
+        threading.Thread(target=compile_quietly, name="xodrlint-compile", daemon=True).start()
 
     def start(self, doc: Document) -> Pending[SchemaCheck | None]:
         """Begin validating ``doc``: a large document validates in a thread or a forked
@@ -81,6 +106,10 @@ class SchemaValidators:
             self._validator(schema)
 
     def _validator(self, schema: SchemaSet) -> Validator:
+        with self._compiling:
+            return self._compiled_validator(schema)
+
+    def _compiled_validator(self, schema: SchemaSet) -> Validator:
         key = (schema.entry, schema.is_builtin)
         validator = self._compiled.get(key)
         if validator is None:

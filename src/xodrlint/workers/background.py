@@ -32,7 +32,7 @@ from xodrlint.positions import TreePositions
 
 _T = TypeVar("_T")
 
-#: Below this many bytes a thread or a fork is not worth it: the overlap saves little
+#: Below this many bytes a fork is not worth it: the overlap saves little
 #: (the fork costs more than it saves).
 MIN_BYTES: Final = 4 * 1024 * 1024
 #: Set to "0" to keep all work in the calling thread (debugging, measuring).
@@ -66,14 +66,22 @@ def can_fork(size: int) -> bool:
     )
 
 
+def threads_allowed() -> bool:
+    """Whether work may run beside the caller (``XODRLINT_FORK=0`` keeps it all in the
+    calling thread)."""
+    return os.environ.get(ENV, "1") != "0"
+
+
 def start(task: Callable[[], _T], size: int, *, thread_safe: bool = False) -> Pending[_T]:
-    """Run ``task`` beside the caller when ``size`` makes it worth it, else on demand:
-    in a thread when it is ``thread_safe`` (see the module's doc), else in a forked child.
+    """Run ``task`` beside the caller: in a thread when it is ``thread_safe`` (see the
+    module's doc), else in a forked child when ``size`` makes that worth it, else on
+    demand.
 
     For a child, ``task`` must return picklable values and must not depend on anything
     the parent changes afterwards (the child sees the parent as it was at the fork).
     """
-    if thread_safe and size >= MIN_BYTES and os.environ.get(ENV, "1") != "0":
+    # a thread costs a tenth of a millisecond: worth it for any document
+    if thread_safe and threads_allowed():
         return _in_thread(task)
     if not can_fork(size):
         return Pending(task)
