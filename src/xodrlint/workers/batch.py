@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Final, NamedTuple
 from xodrlint.engine import ExternalIgnores, Linter, LintOptions
 from xodrlint.findings import FileReport
 from xodrlint.registry import load_registry
+from xodrlint.workers import background
 
 if TYPE_CHECKING:
     from concurrent.futures import Future
@@ -64,6 +65,9 @@ def lint_in_worker(task: Task) -> FileReport:
 
 
 def _lint_chunk(worker: LintTask, chunk: Sequence[Task]) -> list[FileReport]:
+    # in a worker process, beside others that keep every core busy: validating each
+    # file in a thread of its own would only add switches (this process's setting only)
+    os.environ[background.ENV] = "0"
     return [worker(task) for task in chunk]
 
 
