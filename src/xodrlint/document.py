@@ -325,6 +325,9 @@ class _ReadableXPaths:
     def __init__(self) -> None:
         self._steps: dict[etree._Element, str] = {}
         self._children: dict[etree._Element, dict[str, etree._Element]] = {}
+        # whole paths too: findings share their ancestors (a road's path is asked for by
+        # every switch, lane and link below it)
+        self._paths: dict[etree._Element, str] = {}
 
     def element_at(self, root: etree._Element, path: str) -> etree._Element | None:
         steps = _split_steps(path)
@@ -341,12 +344,14 @@ class _ReadableXPaths:
         return node
 
     def path_of(self, element: etree._Element) -> str:
-        steps: list[str] = []
-        node: etree._Element | None = element
-        while node is not None:
-            steps.append(self._step(node))
-            node = node.getparent()
-        return "/" + "/".join(reversed(steps))
+        paths = self._paths
+        found = paths.get(element)
+        if found is not None:
+            return found
+        parent = element.getparent()
+        above = "" if parent is None else self.path_of(parent)  # no deeper than the parser
+        found = paths[element] = f"{above}/{self._step(element)}"
+        return found
 
     def _step(self, element: etree._Element) -> str:
         step = self._steps.get(element)
