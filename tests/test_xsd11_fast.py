@@ -11,7 +11,6 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
-from unittest import mock
 
 import pytest
 from lxml import etree
@@ -109,11 +108,8 @@ def _same_findings(pair: Pair, data: bytes, name: str) -> set[Seen]:
     before = etree.tostring(doc.tree)
     fast, fast_worded = _seen(doc, list(pair.fast.hits(doc)))
     assert etree.tostring(doc.tree) == before, "the fast path left the tree changed"
-    first, finish, _ = pair.fast.stages(doc)  # as a thread (or a child) and the caller run it
+    first, finish, _ = pair.fast.stages(doc)  # as a thread and the caller run it
     assert _seen(doc, finish(first())) == (fast, fast_worded), name
-    with mock.patch.object(background, "MIN_BYTES", 0):  # the assertions in a child too
-        first, finish, _ = pair.fast.stages(doc)
-        assert _seen(doc, finish(first())) == (fast, fast_worded), name
     full, full_worded = _seen(doc, list(pair.full.hits(doc)))
     assert fast == full, (name, sorted(full - fast), sorted(fast - full))
     assert fast_worded == full_worded, name
@@ -803,8 +799,6 @@ def test_the_fast_path_in_a_forked_child_marks_types_there_or_in_the_fallback(
     pairs: dict[str, Pair], monkeypatch: pytest.MonkeyPatch, child: str
 ) -> None:
     import os
-
-    from xodrlint.workers import background
 
     fast = pairs["1.9.0"].fast
     data = _document("1.9.0", ALTERNATIVE_CASES["connection", "@type='virtual'"])
