@@ -144,3 +144,26 @@ def test_lane_rules_judge_a_layout_once_and_report_on_each_roads_own_lane(
         for n in range(40)
     )
     assert len(reads) == 40  # the template's and then each reported road's own
+
+
+def test_a_model_holds_no_reference_cycles() -> None:
+    # the command line freezes what a lint made before the collector is back on: a cycle
+    # there would keep every document of a batch alive
+    import gc
+
+    from xodrlint.api import default_registry
+    from xodrlint.engine import Linter, LintOptions
+
+    linter = Linter(default_registry(), LintOptions(), keep_last_document=True)
+    railway = _same_layout_roads(30, 0.75)
+    was = gc.isenabled()
+    gc.collect()
+    gc.disable()
+    try:
+        for number in range(3):
+            linter.lint_bytes(railway, f"r{number}.xodr")
+        linter.lint_bytes(b"<OpenDRIVE/>", "last.xodr")  # lets the railway go
+        assert gc.collect() == 0
+    finally:
+        gc.unfreeze()
+        (gc.enable if was else gc.disable)()

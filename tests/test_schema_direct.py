@@ -69,3 +69,53 @@ def test_same_findings_on_a_broken_railway(
     direct = _findings(path, direct=True, monkeypatch=monkeypatch)
     assert len(direct) >= 2 * 3 * 20
     assert direct == _findings(path, direct=False, monkeypatch=monkeypatch)
+
+
+@needs_shared
+def test_a_schema_is_freed_with_its_validator(monkeypatch: pytest.MonkeyPatch) -> None:
+    # an API caller's linters come and go with their options: each compile is 1.5 MB
+    import gc
+
+    from lxml import etree
+
+    freed: list[tuple[int | None, int | None]] = []
+    real = libxml2_direct._free
+
+    def recorded(library: object, schema: int | None, copy: int | None) -> None:
+        freed.append((schema, copy))
+        real(library, schema, copy)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(libxml2_direct, "_free", recorded)
+    entry = etree.parse(str(SHARED_SCHEMAS / "1.7.0" / "opendrive_17_core.xsd"))
+    schema = libxml2_direct.direct_schema(entry.getroot())
+    assert schema is not None
+    broken = etree.fromstring(
+        b"<xs:schema xmlns:xs='http://www.w3.org/2001/XMLSchema'><xs:element/></xs:schema>"
+    )
+    assert libxml2_direct.direct_schema(broken) is None  # its copy is freed too
+    del schema
+    gc.collect()
+    assert len(freed) == 2
+    assert all(copy for _, copy in freed) and freed[0][0] is None and freed[1][0]
+
+
+def test_a_validation_without_a_verdict_is_an_error(monkeypatch: pytest.MonkeyPatch) -> None:
+    # libxml2 answers -1 (an internal error) with no error reported: not a valid document
+    from lxml import etree
+
+    library = libxml2_direct._libxml2()
+    if library is None:
+        pytest.skip("direct validation does not run here")
+    schema = libxml2_direct.direct_schema(
+        etree.fromstring(
+            b"<xs:schema xmlns:xs='http://www.w3.org/2001/XMLSchema'>"
+            b"<xs:element name='a'/></xs:schema>"
+        )
+    )
+    assert schema is not None
+    assert schema.validate(etree.ElementTree(etree.fromstring(b"<a/>"))) == []
+    real = library.xmlSchemaValidateDoc
+    monkeypatch.setattr(library, "xmlSchemaValidateDoc", lambda context, doc: -1)
+    with pytest.raises(RuntimeError, match="could not validate"):
+        schema.validate(etree.ElementTree(etree.fromstring(b"<a/>")))
+    monkeypatch.setattr(library, "xmlSchemaValidateDoc", real)

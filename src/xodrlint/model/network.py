@@ -11,6 +11,7 @@ counts when a city map makes tens of thousands of them.
 # No ``from __future__ import annotations``: each string annotation of a named tuple is
 # compiled when the class is made, 2 ms of every run's start-up here.
 import math
+import weakref
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
@@ -142,6 +143,7 @@ class Road:
     """
 
     __slots__ = (
+        "__weakref__",
         "_lanes",
         "_links",
         "_template",
@@ -158,7 +160,7 @@ class Road:
         id: str | None,
         length: float | None,
         has_rail_lane: bool,
-        templates: dict[bytes, "Road"] | None = None,
+        templates: "Templates | None" = None,
     ) -> None:
         self.element = element
         self.id = id
@@ -166,7 +168,10 @@ class Road:
         self.has_rail_lane = has_rail_lane
         self._lanes: RoadLanes | None = None
         self._links: tuple[RoadLink, ...] | None = None
-        self._template: Road | None = None
+        # the template road once known, None for this road itself: no road refers to
+        # itself, and the layouts refer to their roads weakly, so a model holds no
+        # cycles (the command line freezes what a lint made; a cycle there never died)
+        self._template: Road | object | None = _UNKNOWN
         self._templates = templates
 
     def __repr__(self) -> str:
@@ -187,18 +192,19 @@ class Road:
         own lanes only to report on them); reading every road's lanes was a third of
         a rail-dense map's run."""
         template = self._template
-        if template is None:
+        if template is _UNKNOWN:
             templates = self._templates
             if templates is None:
-                template = self
+                template = None
             else:
                 key = b"".join(
                     etree.tostring(lanes, with_tail=False)
                     for lanes in self.element.iterchildren("lanes")
                 )
                 template = templates.setdefault(key, self)
+                template = None if template is self else template
             self._template = template
-        return template
+        return self if template is None else cast("Road", template)
 
     @property
     def links(self) -> tuple["RoadLink", ...]:
@@ -242,6 +248,13 @@ def section_ranges(
         following = sections[index + 1].s if index + 1 < len(sections) else length
         if section.s is not None and following is not None and following >= section.s:
             yield section, section.s, following
+
+
+#: A road whose template is not looked for yet.
+_UNKNOWN: Final = object()
+
+#: The lane layouts of one file, by their text: a road of each, held weakly.
+Templates = weakref.WeakValueDictionary[bytes, Road]
 
 
 class RoadLink(NamedTuple):
@@ -401,7 +414,7 @@ def build_network(
     stations: list[Station] = []
     found = _RAIL_ROADS(root)
     rail_roads = set(found) if isinstance(found, list) else set()
-    templates: dict[bytes, Road] = {}
+    templates: Templates = weakref.WeakValueDictionary()
     for child in root.iterchildren("road", "station"):
         if child.tag == "road":
             road = Road(

@@ -87,7 +87,8 @@ def _selector(identity: etree._Element) -> str:
 class Libxml2Validator:
     """An XSD 1.0 schema set compiled by libxml2."""
 
-    def __init__(self, entry: Path) -> None:
+    def __init__(self, entry: Path, *, direct: bool = True) -> None:
+        """``direct=False`` for a set only ever validated in subtrees (through lxml)."""
         self._documents = read_schema_source(entry).trees
         root = self._documents[0].getroot()
         fix_known_schema_bugs(root)
@@ -100,7 +101,7 @@ class Libxml2Validator:
         # libxml2's own validation where it can run here (see ``libxml2_direct``);
         # lxml's compiles only where it cannot, or for the subtrees of the built-in
         # schema: each compile costs a small map's run 2.5 ms
-        self._direct = direct_schema(root)
+        self._direct = direct_schema(root) if direct else None
         self._lxml: etree.XMLSchema | None = None
         if self._direct is None:
             self._lxml = _compile(self._documents[0], entry)
@@ -150,7 +151,7 @@ class BuiltinRailroadValidator:
 
     def __init__(self, schema: SchemaSet) -> None:
         self._minor = schema.version[1] if schema.version else FIRST_RAILROAD_MINOR
-        self._inner = Libxml2Validator(schema.entry)
+        self._inner = Libxml2Validator(schema.entry, direct=False)
 
     def hits(self, doc: Document) -> Iterator[Hit]:
         root = doc.root

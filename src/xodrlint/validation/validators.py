@@ -1,8 +1,9 @@
 """Stage 2, validation: validate a document against the XSD of its version.
 
 :class:`SchemaValidators` finds the schema set a document's declared version asks for
-(:mod:`~xodrlint.validation.sets`), compiles it once per process, and starts validation,
-beside the rules for a large document (in a thread, or a forked child for Python work).
+(:mod:`~xodrlint.validation.sets`), compiles it once per process, and starts validation
+beside the rules (in a thread; a large document whose set cannot be validated in one, in
+a forked child).
 OpenDRIVE 1.1 to 1.7 schemas are XSD 1.0 and run in libxml2
 (:mod:`~xodrlint.validation.libxml2`); 1.8 and 1.9 are XSD 1.1
 (:mod:`~xodrlint.validation.xsd11`): libxml2 runs their XSD 1.0 form and the 1.1-only
@@ -80,8 +81,9 @@ class SchemaValidators:
         threading.Thread(target=compile_quietly, name="xodrlint-compile", daemon=True).start()
 
     def start(self, doc: Document) -> Pending[SchemaCheck | None]:
-        """Begin validating ``doc``: a large document validates in a thread or a forked
-        child while the caller runs the rules; :meth:`Pending.result` gives the check."""
+        """Begin validating ``doc``: libxml2 validates in a thread (a large document of a
+        set it cannot validate in a thread: in a forked child) while the caller runs the
+        rules; :meth:`Pending.result` gives the check."""
         schema = self.schema_for(doc)
         if schema is None or doc.tree is None:
             return Pending(lambda: None)
@@ -94,10 +96,10 @@ class SchemaValidators:
         if split is not None:
             first, finish, thread_safe = split(doc)
         else:
-            first, finish = (lambda: list(validator.hits(doc))), list
+            first, finish = (lambda: list(validator.hits(doc))), (lambda get: list(get()))
             thread_safe = validator.thread_safe
         hits = background.start_hits(first, root, len(doc.data), thread_safe=thread_safe)
-        return Pending(lambda: SchemaCheck(schema, tuple(finish(hits.result()))))
+        return Pending(lambda: SchemaCheck(schema, tuple(finish(hits.result))))
 
     def prepare(self, doc: Document) -> None:
         """Compile the schema ``doc`` asks for, without validating anything."""

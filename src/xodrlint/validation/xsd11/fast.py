@@ -20,9 +20,8 @@ Anything the fast path cannot reproduce raises
 cache also records, from one strict xmlschema build of the set, where an element
 with type alternatives can stand. A document with no element there needs no type
 marks, so libxml2 runs alone in a thread. The assertions need no libxml2 result:
-on a large document a forked child loads the xmlschema model and checks them, while
-the caller runs its rules; the caller only merges, and loads the model itself only
-when libxml2 skipped a subtree. The model (built with the meta-schema check that
+the caller checks them once its rules are done, while libxml2's thread may still be
+busy, and merges. The model (built with the meta-schema check that
 strict build made once) is kept pickled beside the form, so runs load it instead of
 building it.
 
@@ -64,11 +63,13 @@ from xodrlint.workers import background
 MODE_ENV: Final = "XODRLINT_XSD11"
 
 #: The second part of a split validation: the first part's hits in, the findings out.
-Finish = Callable[[list[Hit]], list[Hit]]
+#: The first part's hits are asked for when the second part needs them: the caller's own
+#: share of the second part (the assertions) runs while the first may still be running.
+Finish = Callable[[Callable[[], list[Hit]]], list[Hit]]
 
 #: What the assertion stage found: "checked" with its hits, "marks" (an element stands
 #: where a type alternative applies after all) or "full" (with the schema's reason, if
-#: the reason is the schema's), as values that cross a fork.
+#: the reason is the schema's), its hits as positions in the tree.
 _Stage = tuple[str, str, list[background.SentHit]]
 
 
@@ -155,11 +156,11 @@ class FastXsd11Validator:
         root = doc.tree.getroot()
         sites = self.form.alternative_sites
         if sites is None or self._unsupported is not None or holds_a_site(doc, root, sites):
-            return (lambda: list(self.hits(doc))), list, False
+            return (lambda: list(self.hits(doc))), (lambda first: list(first())), False
         checks = background.Pending(lambda: self._assertion_stage(doc, root))
         return (
             (lambda: list(self._libxml2.hits(doc))),
-            lambda raw: self._finish(doc, raw, checks.result()),
+            lambda first: self._finish_after(doc, checks, first),
             self._libxml2.thread_safe,
         )
 
@@ -173,6 +174,12 @@ class FastXsd11Validator:
         except NeedsFull:
             return ("full", self._unsupported or "", [])
         return ("checked", "", background.send_hits(hits, root))
+
+    def _finish_after(
+        self, doc: Document, checks: background.Pending[_Stage], first: Callable[[], list[Hit]]
+    ) -> list[Hit]:
+        stage = checks.result()  # the assertions, while libxml2's thread may still run
+        return self._finish(doc, first(), stage)
 
     def _finish(self, doc: Document, raw: list[Hit], stage: _Stage) -> list[Hit]:
         assert doc.tree is not None
