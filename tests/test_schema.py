@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+import os
 import shutil
 import subprocess
 import sys
@@ -12,7 +14,14 @@ import pytest
 from xodrlint.api import default_registry
 from xodrlint.engine import Linter, LintOptions
 from xodrlint.findings import FileReport
-from xodrlint.validation.sets import Origin, SchemaFinder, builtin_set
+from xodrlint.validation.sets import (
+    Origin,
+    SchemaFinder,
+    SchemaSet,
+    builtin_set,
+    entry_xsd,
+    uses_xsd11,
+)
 
 from .conftest import CORPUS_RAIL, REPO, SHARED_SCHEMAS, needs_shared
 
@@ -269,9 +278,9 @@ def test_a_broken_schema_is_said_once(tmp_path: Path) -> None:
     )
     assert done.returncode == 2
     assert done.stderr.splitlines() == [
-        f"xodrlint: cannot compile schema {bad}: Element "
+        f"xodrlint: cannot compile schema {bad}: line 1: Element "
         "'{http://www.w3.org/2001/XMLSchema}element': The attribute 'name' is required "
-        "but missing., line 1"
+        "but missing."
     ]
 
 
@@ -299,3 +308,92 @@ def test_the_schema_compiles_while_the_document_is_parsed(
     assert compiled_in == (["xodrlint-compile"] if threads == "1" else ["MainThread"])
     assert report.schema is not None and "1.7" in report.schema
     assert [f.code for f in report.findings].count("XS006") >= 3
+
+
+# -- issue 18, item 1: a single 1.8 set, by every route -------------------------------------
+
+
+def _cli(*args: str, env: dict[str, str] | None = None) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "xodrlint", *args],
+        check=False,
+        capture_output=True,
+        text=True,
+        env={**os.environ, **(env or {})},
+    )
+
+
+@needs_shared
+@pytest.mark.parametrize(
+    "route",
+    ["1.8.1", "1.8.0", "1.8.1/OpenDRIVE_Core.xsd", "1.9.0", "environment 1.8.1"],
+)
+def test_a_single_xsd11_set_validates_by_every_route(route: str) -> None:
+    # the 1.8 files carry no vc:minVersion marker in their first 4 KB: their asserts, type
+    # alternatives and folder name tell that they are XSD 1.1
+    if route.startswith("environment"):
+        schema = SHARED_SCHEMAS / route.split()[1]
+        done = _cli("check", str(REPO / "examples" / "broken.xodr"), "-f", "json",
+                    env={"XODRLINT_SCHEMA_PATH": str(schema)})  # fmt: skip
+    else:
+        done = _cli(
+            "check", str(REPO / "examples" / "broken.xodr"), "-f", "json",
+            "--schema", str(SHARED_SCHEMAS / route),
+        )  # fmt: skip
+    assert done.returncode == 1, done.stderr
+    report = json.loads(done.stdout)
+    assert "built-in" not in report["files"][0]["schema"]["description"]
+    codes = [finding["code"] for finding in report["findings"]]
+    assert codes.count("XS006") >= 3  # the official schema's verdict, not the built-in's
+
+
+@needs_shared
+@pytest.mark.parametrize("version", ["1.4", "1.5", "1.6.1", "1.7.0", "1.8.0", "1.8.1", "1.9.0"])
+def test_a_set_is_xsd11_by_its_content_and_version(version: str) -> None:
+    entry = entry_xsd(SHARED_SCHEMAS / version)
+    assert entry is not None
+    expected = version.startswith(("1.8", "1.9"))
+    assert SchemaSet(entry, None, Origin.OPTION).is_xsd11 is expected
+    # a copy in a folder without a version, under a name without one: by content alone
+    assert uses_xsd11(entry) is expected
+
+
+def test_xsd11_content_is_recognised_whatever_the_prefix(tmp_path: Path) -> None:
+    core = tmp_path / "core.xsd"
+    core.write_text(
+        '<s:schema xmlns:s="http://www.w3.org/2001/XMLSchema"><s:include schemaLocation="part.xsd"/>'
+        '<s:element name="OpenDRIVE"/></s:schema>'
+    )
+    part = tmp_path / "part.xsd"
+    part.write_text(
+        '<s:schema xmlns:s="http://www.w3.org/2001/XMLSchema"><s:annotation><s:documentation>'
+        "an alternative to assert</s:documentation></s:annotation></s:schema>"
+    )
+    assert not uses_xsd11(core)
+    uses_xsd11.cache_clear()
+    part.write_text(
+        '<s:schema xmlns:s="http://www.w3.org/2001/XMLSchema"><s:complexType name="t">'
+        '<s:assert test="true()"/></s:complexType></s:schema>'
+    )
+    assert uses_xsd11(core)  # found through the include
+    uses_xsd11.cache_clear()
+
+
+def test_a_set_that_fails_to_compile_names_the_file_and_line_that_failed(tmp_path: Path) -> None:
+    core = tmp_path / "core.xsd"
+    core.write_text(
+        '<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema">\n'
+        '  <xs:include schemaLocation="part.xsd"/>\n'
+        '  <xs:element name="OpenDRIVE"/>\n'
+        "</xs:schema>\n"
+    )
+    (tmp_path / "part.xsd").write_text(
+        '<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema">\n'
+        "\n"
+        '  <xs:complexType name="t"><xs:element name="x"/></xs:complexType>\n'
+        "</xs:schema>\n"
+    )
+    done = _cli("check", "--schema", str(core), str(REPO / "examples" / "clean.xodr"))
+    assert done.returncode == 2
+    (line,) = done.stderr.splitlines()
+    assert line.startswith(f"xodrlint: cannot compile schema {core}: {tmp_path / 'part.xsd'}:3: ")

@@ -6,6 +6,7 @@ from :mod:`~xodrlint.validation.messages`.
 
 from __future__ import annotations
 
+import os
 import threading
 from collections.abc import Iterable, Iterator
 from pathlib import Path
@@ -139,7 +140,18 @@ def _compile(document: etree._ElementTree, entry: Path) -> etree.XMLSchema:
     try:
         return etree.XMLSchema(document)
     except etree.XMLSchemaParseError as error:
-        raise SchemaLoadError(f"cannot compile schema {entry}: {error}") from error
+        raise SchemaLoadError(f"cannot compile schema {entry}: {_where(error, entry)}") from error
+
+
+def _where(error: etree.XMLSchemaParseError, entry: Path) -> str:
+    """The error with the file and line that failed: lxml's message names only the line,
+    and the failing file is often another file of the set than its entry."""
+    last = error.error_log.last_error if error.error_log else None
+    if last is None or not last.filename or last.filename == "<string>":
+        return str(error)
+    failed = os.path.realpath(last.filename)
+    place = f"line {last.line}" if failed == os.path.realpath(entry) else f"{failed}:{last.line}"
+    return f"{place}: {last.message.strip()}"
 
 
 class BuiltinRailroadValidator:

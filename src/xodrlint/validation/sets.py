@@ -8,6 +8,7 @@ built-in railroad schema (written by us, ``builtin/``) checks the railroad subtr
 
 from __future__ import annotations
 
+import functools
 import os
 import re
 from collections.abc import Iterator, Mapping
@@ -55,10 +56,13 @@ class SchemaSet(NamedTuple):
 
     @property
     def is_xsd11(self) -> bool:
-        """OpenDRIVE 1.8 and later use XSD 1.1 (assertions, type alternatives)."""
-        if self.version is not None:
-            return self.version >= (1, 8, 0)
-        return b'vc:minVersion="1.1"' in self.entry.read_bytes()[:4096]
+        """OpenDRIVE 1.8 and later use XSD 1.1 (assertions, type alternatives): a set is
+        taken for XSD 1.1 by the version it carries (its folder, its name, ASAM's header
+        comment) or by what any of its files holds, whichever route it came by."""
+        if self.is_builtin:
+            return False
+        version = self.version or version_of_set(self.entry)
+        return (version is not None and version >= (1, 8, 0)) or uses_xsd11(self.entry)
 
     @property
     def label(self) -> str:
@@ -153,6 +157,51 @@ def entry_xsd(folder: Path) -> Path | None:
         if _DECLARES_ROOT.search(head):
             return _real(candidate)
     return None
+
+
+#: The marker that asks for XSD 1.1 (ASAM's 1.8 files do not always carry it).
+_MIN_VERSION_11: Final = re.compile(rb"minVersion\s*=\s*[\"']1\.1[\"']")
+#: Elements only XSD 1.1 has, by their local names.
+_XSD11_ELEMENTS: Final = (b"assert", b"alternative")
+_AFTER_A_NAME: Final = frozenset((b" ", b"\t", b"\r", b"\n", b"/", b">"))
+_SCHEMA_LOCATION: Final = re.compile(rb"schemaLocation\s*=\s*[\"']([^\"']+)[\"']")
+
+
+@functools.cache
+def uses_xsd11(entry: Path) -> bool:
+    """Whether ``entry`` or a local file it includes or imports (followed through their
+    ``schemaLocation``) holds XSD 1.1 content. Read as bytes: a file that cannot be read
+    is left to the compile, which says so."""
+    pending, seen = [entry], set()
+    while pending:
+        path = pending.pop()
+        if path in seen:
+            continue
+        seen.add(path)
+        try:
+            data = path.read_bytes()
+        except OSError:
+            continue
+        if _holds_xsd11(data):
+            return True
+        for location in _SCHEMA_LOCATION.findall(data):
+            if b"://" not in location:
+                pending.append(_real(path.parent / os.fsdecode(location)))
+    return False
+
+
+def _holds_xsd11(data: bytes) -> bool:
+    """An ``xs:assert`` or ``xs:alternative`` element (any prefix) or the 1.1 marker. The
+    words are found by byte search, then their neighbours read: a regular expression
+    tried at every byte took milliseconds per set, on every run."""
+    for word in _XSD11_ELEMENTS:
+        at = data.find(word)
+        while at > 0:
+            after = data[at + len(word) : at + len(word) + 1]
+            if data[at - 1 : at] in (b"<", b":") and after in _AFTER_A_NAME:
+                return True
+            at = data.find(word, at + 1)
+    return b"minVersion" in data and _MIN_VERSION_11.search(data) is not None
 
 
 def _version_of_folder(name: str) -> tuple[int, int, int]:
