@@ -187,3 +187,48 @@ def test_the_option_flags_state_the_rules_defaults() -> None:
     text = CliRunner().invoke(app, ["check", "--help"], env={"COLUMNS": "300"}).stdout
     assert f"default {MIN_WIDTH.default:g}" in text
     assert f"default {TOLERANCE.default:g}" in text
+
+
+# -- issue 18, item 4: numbers that are no finite number ------------------------------------
+
+RULES_DIR = Path(__file__).resolve().parents[1] / "rules"
+
+
+@pytest.mark.parametrize(
+    ("case", "family", "expected"),
+    [
+        ("SW005/invalid_s_not_a_finite_number.xodr", "SW", {18: "SW005", 19: "SW005"}),
+        ("SW005/invalid_road_length_not_a_finite_number.xodr", "SW", {18: "SW005"}),
+        (
+            "ST004/invalid_s_not_a_finite_number.xodr",
+            "ST",
+            {32: "ST004", 33: "ST004", 34: "ST004", 37: "ST004"},
+        ),
+    ],
+)
+def test_a_number_that_is_no_finite_number_is_reported_once_by_the_range_rule(
+    case: str, family: str, expected: dict[int, str]
+) -> None:
+    # INF, NaN and 1e999 are valid xs:doubles: the schema is silent, and only the range
+    # rule speaks (SW006, SW011, SW012, ST005, ST006, ST011 stay silent), with the value
+    # as written
+    path = RULES_DIR / case
+    report = Linter(default_registry(), LintOptions(select=(family,))).lint_path(path)
+    assert {f.line: f.code for f in report.findings} == expected
+    assert len(report.findings) == len(expected)
+    written = {"INF", "NaN", "1e999", "-1e999"}
+    assert all(any(w in f.message for w in written) for f in report.findings)
+
+
+def test_finite_looking_text_that_is_no_double_stays_the_schemas() -> None:
+    from lxml import etree
+
+    from xodrlint.model import non_finite
+
+    for text, expected in [("INF", "INF"), (" -INF ", "-INF"), ("+INF", "+INF"),
+                           ("NaN", "NaN"), ("1e999", "1e999"), (".5E+400", ".5E+400"),
+                           ("inf", None), ("Infinity", None), ("nan", None),
+                           ("1e308", None), ("1_0e999", None), ("", None)]:  # fmt: skip
+        element = etree.fromstring(f'<mainTrack s="{text}"/>')
+        assert non_finite(element, "s") == expected, text
+    assert non_finite(etree.fromstring("<mainTrack/>"), "s") is None

@@ -27,6 +27,7 @@ from xodrlint.model.network import (
     TrackRef,
     build_network,
     integer,
+    non_finite,
     number,
     numbers,
 )
@@ -49,6 +50,7 @@ __all__ = [
     "TrackRef",
     "build_network",
     "integer",
+    "non_finite",
     "number",
     "numbers",
 ]

@@ -11,6 +11,7 @@ counts when a city map makes tens of thousands of them.
 # No ``from __future__ import annotations``: each string annotation of a named tuple is
 # compiled when the class is made, 2 ms of every run's start-up here.
 import math
+import re
 import weakref
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -70,6 +71,29 @@ def _double(raw: str | None) -> float | None:
     if not math.isfinite(value) or "_" in raw or not raw.isascii():
         return None
     return value
+
+
+#: xs:double's numerals: a value such as "1e999" is one, but too large for a double.
+_XS_NUMERAL: Final = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[Ee][+-]?[0-9]+)?")
+#: xs:double's own spellings of its infinities and of not-a-number ("+INF" since XSD 1.1).
+_XS_SPECIALS: Final = frozenset({"INF", "-INF", "+INF", "NaN"})
+
+
+def non_finite(element: etree._Element, attribute: str) -> str | None:
+    """The text of ``attribute`` when it is an xs:double that is no finite number (``INF``,
+    ``-INF``, ``NaN``, or a numeral too large for a double such as ``1e999``), as written:
+    the schema accepts it, and it lies outside every range, so the range rules report it.
+    ``None`` for a finite number, a missing value, or text that is no xs:double (that is
+    the schema rule's to report)."""
+    raw = element.get(attribute)
+    if raw is None:
+        return None
+    text = raw.strip(" \t\r\n")  # xs:double collapses whitespace
+    if text in _XS_SPECIALS:
+        return text
+    if _XS_NUMERAL.fullmatch(text) and not math.isfinite(float(text)):
+        return text
+    return None
 
 
 def integer(element: etree._Element, attribute: str) -> int | None:

@@ -2,7 +2,10 @@
 
 ## What it does
 Reports a `segment` whose `@sStart` or `@sEnd` lies outside `[0, length]` of the road
-its `@roadId` names (with a tolerance of 1e-6 m).
+its `@roadId` names (with a tolerance of 1e-6 m). A value that is no finite number
+(`INF`, `-INF`, `NaN`, or a numeral too large for a double such as `1e999`) is a valid
+`xs:double`, so the schema accepts it; it lies outside every range and is reported as
+written, as are the ends of a segment on a road whose `@length` is such a value.
 
 ## Why is this bad?
 This is an inference: `sStart` and `sEnd` are s-coordinates along the segment's road, and
@@ -43,7 +46,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from xodrlint.findings import Hit, Severity
-from xodrlint.model import RailNetwork
+from xodrlint.model import RailNetwork, non_finite
 from xodrlint.rules import rule
 from xodrlint.rules._shared import metres, quoted, within
 from xodrlint.rules.stations._walk import segments_with_platform
@@ -59,16 +62,27 @@ from xodrlint.rules.stations._walk import segments_with_platform
 def segment_s_out_of_range(network: RailNetwork) -> Iterator[Hit]:
     for segment, platform in segments_with_platform(network):
         road = network.road_by_id.get(segment.road_id) if segment.road_id is not None else None
-        if road is None or road.length is None:
+        if road is None:
             continue
-        outside = [
-            f"{name}={metres(value)}"
-            for name, value in (("sStart", segment.s_start), ("sEnd", segment.s_end))
-            if value is not None and not within(value, 0.0, road.length)
-        ]
-        if outside:
-            yield Hit(
-                segment.element,
-                f"segment of platform {quoted(platform.id)} has {' and '.join(outside)}, "
-                f"outside road '{road.id}' (0 to {metres(road.length)})",
-            )
+        length = non_finite(road.element, "length") if road.length is None else None
+        outside = []
+        for name, value in (("sStart", segment.s_start), ("sEnd", segment.s_end)):
+            if value is None:  # no finite number: reported as written if it is a double
+                written = non_finite(segment.element, name)
+                if written is not None:
+                    outside.append(f"{name}={written}")
+            elif length is not None or (
+                road.length is not None and not within(value, 0.0, road.length)
+            ):
+                outside.append(f"{name}={metres(value)}")
+        if not outside:
+            continue
+        if road.length is not None:
+            span = f"(0 to {metres(road.length)})"
+        else:
+            span = f"(its length is {length})" if length is not None else ""
+        yield Hit(
+            segment.element,
+            f"segment of platform {quoted(platform.id)} has {' and '.join(outside)}, "
+            f"outside road '{road.id}' {span}".rstrip(),
+        )

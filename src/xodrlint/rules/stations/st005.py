@@ -31,7 +31,8 @@ Use instead:
 
 ## Related rules
 ST006 reports a segment whose ends coincide; ST011 compares segments by the s range they
-cover whichever way round they are written.
+cover whichever way round they are written. An end that is no finite number (`NaN`,
+`INF`) has no order: ST004 reports it, once, and ST005 stays silent.
 
 ## References
 - ASAM OpenDRIVE 1.7, chapter "Railroads", section "Stations" (segments); rule UID

@@ -35,7 +35,9 @@ Use instead:
 ```
 
 ## Related rules
-ST005 reports a reversed segment; ST011 still compares it by the range it covers.
+ST005 reports a reversed segment; ST011 still compares it by the range it covers. A
+segment with an end that is no finite number (`NaN`, `INF`) covers no range: ST004
+reports it, once, and ST011 leaves it out.
 
 ## References
 - ASAM OpenDRIVE 1.7, chapter "Railroads", section "Stations" (segments); rule UID

@@ -2,7 +2,10 @@
 
 ## What it does
 Reports a `mainTrack` or `sideTrack` whose `@s` lies outside `[0, length]` of the road it
-names (with a tolerance of 1e-6 m).
+names (with a tolerance of 1e-6 m). A value that is no finite number (`INF`, `-INF`,
+`NaN`, or a numeral too large for a double such as `1e999`) is a valid `xs:double`, so
+the schema accepts it; it lies outside every range and is reported as written, as is an
+`@s` on a road whose `@length` is such a value.
 
 ## Why is this bad?
 This is an inference: the standard defines `s` of a track as the position of the switch
@@ -41,7 +44,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from xodrlint.findings import Hit, Severity
-from xodrlint.model import RailNetwork
+from xodrlint.model import RailNetwork, non_finite
 from xodrlint.rules import rule
 from xodrlint.rules._shared import metres, quoted, within
 from xodrlint.rules.switches._tracks import named_road, track_refs
@@ -58,11 +61,24 @@ def track_s_out_of_range(network: RailNetwork) -> Iterator[Hit]:
     for switch in network.switches:
         for kind, track in track_refs(switch):
             road = named_road(network, track)
-            if road is None or road.length is None or track.s is None:
+            if road is None:
                 continue
-            if not within(track.s, 0.0, road.length):
+            where = f"{kind} of switch {quoted(switch.id)}"
+            written = non_finite(track.element, "s") if track.s is None else None
+            length = non_finite(road.element, "length") if road.length is None else None
+            if written is not None:  # no range holds it, whatever the road's length
+                span = f" (0 to {metres(road.length)})" if road.length is not None else ""
+                yield Hit(track.element, f"{where} is at s={written}, outside road '{road.id}'{span}")
+            elif length is not None and track.s is not None:
                 yield Hit(
                     track.element,
-                    f"{kind} of switch {quoted(switch.id)} is at s={metres(track.s)}, outside "
-                    f"road '{road.id}' (0 to {metres(road.length)})",
+                    f"{where} is at s={metres(track.s)} of road '{road.id}', whose length is "
+                    f"{length}: no range holds it",
                 )
+            elif road.length is not None and track.s is not None:
+                if not within(track.s, 0.0, road.length):
+                    yield Hit(
+                        track.element,
+                        f"{where} is at s={metres(track.s)}, outside road '{road.id}' "
+                        f"(0 to {metres(road.length)})",
+                    )

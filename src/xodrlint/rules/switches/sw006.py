@@ -32,8 +32,8 @@ Use instead:
 ```
 
 ## Related rules
-SW004 (unknown road) and SW005 (s outside the road) report first; SW006 stays silent on
-a side track they report.
+SW004 (unknown road) and SW005 (s outside the road, or no finite number such as `INF`)
+report first; SW006 stays silent on a side track they report.
 
 ## References
 - ASAM OpenDRIVE 1.7, chapter "Railroads", section "Switches" (side track); rule UID
