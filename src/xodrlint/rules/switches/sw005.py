@@ -68,17 +68,22 @@ def track_s_out_of_range(network: RailNetwork) -> Iterator[Hit]:
             length = non_finite(road.element, "length") if road.length is None else None
             if written is not None:  # no range holds it, whatever the road's length
                 span = f" (0 to {metres(road.length)})" if road.length is not None else ""
-                yield Hit(track.element, f"{where} is at s={written}, outside road '{road.id}'{span}")
+                yield Hit(
+                    track.element, f"{where} is at s={written}, outside road '{road.id}'{span}"
+                )
             elif length is not None and track.s is not None:
                 yield Hit(
                     track.element,
                     f"{where} is at s={metres(track.s)} of road '{road.id}', whose length is "
                     f"{length}: no range holds it",
                 )
-            elif road.length is not None and track.s is not None:
-                if not within(track.s, 0.0, road.length):
-                    yield Hit(
-                        track.element,
-                        f"{where} is at s={metres(track.s)}, outside road '{road.id}' "
-                        f"(0 to {metres(road.length)})",
-                    )
+            elif (
+                road.length is not None
+                and track.s is not None
+                and not within(track.s, 0.0, road.length)
+            ):
+                yield Hit(
+                    track.element,
+                    f"{where} is at s={metres(track.s)}, outside road '{road.id}' "
+                    f"(0 to {metres(road.length)})",
+                )
