@@ -204,6 +204,12 @@ RULES_DIR = Path(__file__).resolve().parents[1] / "rules"
             "ST",
             {32: "ST004", 33: "ST004", 34: "ST004", 37: "ST004"},
         ),
+        (
+            "RL003/invalid_width_not_a_finite_number.xodr",
+            "RL",
+            {14: "RL003", 22: "RL003", 30: "RL003"},
+        ),
+        ("RL002/invalid_offset_not_a_finite_number.xodr", "RL", {14: "RL002", 33: "RL002"}),
     ],
 )
 def test_a_number_that_is_no_finite_number_is_reported_once_by_the_range_rule(

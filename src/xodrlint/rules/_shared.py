@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from typing import Final, TypeVar
 
+from lxml import etree
+
+from xodrlint.model import non_finite
 from xodrlint.model.lane_profiles import S_TOLERANCE
 
 __all__ = [
@@ -80,3 +83,14 @@ def later_duplicates(
             yield item, first[key]
         else:
             first[key] = item
+
+
+def first_non_finite(elements: Iterable[etree._Element], attributes: Sequence[str]) -> str | None:
+    """``name=value`` of the first of ``attributes`` of ``elements`` that is an xs:double
+    but no finite number (``a=INF``), as written; ``None`` when there is none."""
+    for element in elements:
+        for name in attributes:
+            written = non_finite(element, name)
+            if written is not None:
+                return f"{name}={written}"
+    return None

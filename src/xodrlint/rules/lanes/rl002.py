@@ -6,7 +6,10 @@ On a road whose left and right lanes are only `rail`/`tram` lanes and non-traffi
 centre lane, which has no width, does not count), reports the rail lane of a lane section
 with exactly one rail or tram lane when the centre line of that lane is more than the
 tolerance (0.05 m by default) away from the reference line anywhere along the lane
-section; once per lane section.
+section; once per lane section. A `laneOffset` value, or a `width` value of a lane between
+the centre lane and the rail lane, that is no finite number (`INF`, `-INF`, `NaN`,
+`1e999`: valid `xs:double`s the schema accepts) places the centre nowhere: it is
+reported as written (the rail lane's own width is RL003's).
 
 The centre is computed exactly: `laneOffset` and the `width` of every lane between the
 centre lane and the rail lane are the cubic polynomials they are, each piece on its whole
@@ -60,14 +63,22 @@ lane section unjudged.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 from typing import Final, NamedTuple
 
 from xodrlint.findings import Hit, RuleOption, Severity
-from xodrlint.model import NON_TRAFFIC_LANE_TYPES, RAIL_LANE_TYPES, RailNetwork, Road
+from xodrlint.model import (
+    NON_TRAFFIC_LANE_TYPES,
+    RAIL_LANE_TYPES,
+    Lane,
+    LaneSection,
+    RailNetwork,
+    Road,
+)
 from xodrlint.model.lane_profiles import S_TOLERANCE, centre_terms, extremes
 from xodrlint.rules import Settings, rule
-from xodrlint.rules._shared import metres
+from xodrlint.rules._shared import first_non_finite, metres
 from xodrlint.rules.lanes._labels import lane_label
 from xodrlint.rules.lanes._templates import judged_once_per_layout, own_lane, ranged_sections
 
@@ -107,8 +118,14 @@ def refline_not_centered(network: RailNetwork, settings: Settings) -> Iterator[H
             rails = [i for i, lane in enumerate(section.lanes) if lane.is_rail]
             if len(rails) != 1:
                 continue
-            terms = centre_terms(template, section, start, section.lanes[rails[0]])
-            farthest = extremes(terms, start, end) if terms is not None else None
+            rail = section.lanes[rails[0]]
+            terms = centre_terms(template, section, start, rail)
+            if terms is None:  # a value that is no finite number places the centre nowhere
+                written = _non_finite_placement(template, section, rail)
+                if written is not None:
+                    found.append(_OffCentre(index, rails[0], start, math.nan, start, written))
+                continue
+            farthest = extremes(terms, start, end)
             if farthest is None:
                 continue
             distance, s = max(
@@ -121,12 +138,37 @@ def refline_not_centered(network: RailNetwork, settings: Settings) -> Iterator[H
     for road, off in judged_once_per_layout(network, off_centre, by_length=True):
         for found in off:
             _, lane = own_lane(road, found.section, found.lane)
-            yield Hit(
-                lane.element,
-                f"the centre of {lane.type} {lane_label(lane, road, found.start)} is "
-                f"{metres(found.distance)} m from the reference line at s={metres(found.s)} "
-                f"(tolerance {metres(tolerance)} m)",
-            )
+            centre = f"the centre of {lane.type} {lane_label(lane, road, found.start)}"
+            if found.written is not None:
+                message = f"{centre} lies nowhere: {found.written}"
+            else:
+                message = (
+                    f"{centre} is {metres(found.distance)} m from the reference line at "
+                    f"s={metres(found.s)} (tolerance {metres(tolerance)} m)"
+                )
+            yield Hit(lane.element, message)
+
+
+def _non_finite_placement(template: Road, section: LaneSection, rail: Lane) -> str | None:
+    """What places ``rail``'s centre and is no finite number, as written: a ``laneOffset``
+    value, or a width value of a lane between it and the centre lane (its own width is
+    RL003's to report)."""
+    offsets = (
+        o
+        for lanes in template.element.iterchildren("lanes")
+        for o in lanes.iterchildren("laneOffset")
+    )
+    written = first_non_finite(offsets, ("s", "a", "b", "c", "d"))
+    if written is not None:
+        return f"laneOffset has {written}"
+    depth = abs(rail.id) if rail.id is not None else 0
+    for lane in section.lanes:
+        if lane.side == rail.side and lane.id is not None and 0 < abs(lane.id) < depth:
+            widths = lane.element.iterchildren("width")
+            written = first_non_finite(widths, ("sOffset", "a", "b", "c", "d"))
+            if written is not None:
+                return f"lane '{lane.id}' has a width entry with {written}"
+    return None
 
 
 class _OffCentre(NamedTuple):
@@ -135,3 +177,5 @@ class _OffCentre(NamedTuple):
     start: float
     distance: float
     s: float
+    written: str | None = None
+    """What places the centre nowhere, as written (``laneOffset has a=INF``)."""

@@ -2,7 +2,10 @@
 
 ## What it does
 Reports a lane of type `rail` or `tram` whose width drops below the minimum (1.435 m,
-standard gauge, by default) anywhere along its lane section; once per lane section.
+standard gauge, by default) anywhere along its lane section; once per lane section. A
+`width` value that is no finite number (`INF`, `-INF`, `NaN`, `1e999`: valid
+`xs:double`s the schema accepts) gives no width at all and lies outside every range: it
+is reported as written.
 
 The width is computed exactly: each `width` entry is the cubic polynomial it is, on its
 whole stretch up to where the next entry starts, and the narrowest point is found where
@@ -49,6 +52,7 @@ not judged; the schema (XS006) reports unreadable values.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 from typing import Final, NamedTuple
 
@@ -56,7 +60,7 @@ from xodrlint.findings import Hit, RuleOption, Severity
 from xodrlint.model import RailNetwork, Road
 from xodrlint.model.lane_profiles import S_TOLERANCE, extremes, lane_width
 from xodrlint.rules import Settings, rule
-from xodrlint.rules._shared import metres
+from xodrlint.rules._shared import first_non_finite, metres
 from xodrlint.rules.lanes._labels import lane_label
 from xodrlint.rules.lanes._templates import judged_once_per_layout, own_lane, ranged_sections
 
@@ -83,6 +87,10 @@ def rail_lane_too_narrow(network: RailNetwork, settings: Settings) -> Iterator[H
             for lane_index, lane in enumerate(section.lanes):
                 if not lane.is_rail:
                     continue
+                written = first_non_finite(lane.element.iterchildren("width"), _WIDTH_VALUES)
+                if written is not None:  # no width at all, and no range holds it
+                    found.append(_Narrow(index, lane_index, start, math.nan, start, written))
+                    continue
                 width = lane_width(lane, start)
                 low = extremes([(1.0, width)], start, end) if width is not None else None
                 if low is not None and low.low < minimum - S_TOLERANCE:
@@ -92,11 +100,15 @@ def rail_lane_too_narrow(network: RailNetwork, settings: Settings) -> Iterator[H
     for road, narrow in judged_once_per_layout(network, narrowest, by_length=True):
         for found in narrow:
             _, lane = own_lane(road, found.section, found.lane)
-            yield Hit(
-                lane.element,
-                f"{lane.type} {lane_label(lane, road, found.start)} is {metres(found.width)} m "
-                f"wide at s={metres(found.s)}, narrower than {metres(minimum)} m",
-            )
+            label = lane_label(lane, road, found.start)
+            if found.written is not None:
+                message = f"{lane.type} {label} has a width entry with {found.written}, no width"
+            else:
+                message = (
+                    f"{lane.type} {label} is {metres(found.width)} m wide at "
+                    f"s={metres(found.s)}, narrower than {metres(minimum)} m"
+                )
+            yield Hit(lane.element, message)
 
 
 class _Narrow(NamedTuple):
@@ -105,3 +117,8 @@ class _Narrow(NamedTuple):
     start: float
     width: float
     s: float
+    written: str | None = None
+    """A width value that is no finite number, as written (``a=INF``)."""
+
+
+_WIDTH_VALUES: Final = ("sOffset", "a", "b", "c", "d")
