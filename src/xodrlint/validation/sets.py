@@ -186,7 +186,8 @@ def uses_xsd11(entry: Path) -> bool:
             return True
         for location in _SCHEMA_LOCATION.findall(data):
             if b"://" not in location:
-                pending.append(_real(path.parent / os.fsdecode(location)))
+                # normalised, not resolved: a link per include cost a set a millisecond
+                pending.append(Path(os.path.normpath(path.parent / os.fsdecode(location))))
     return False
 
 
