@@ -397,3 +397,27 @@ def test_a_set_that_fails_to_compile_names_the_file_and_line_that_failed(tmp_pat
     assert done.returncode == 2
     (line,) = done.stderr.splitlines()
     assert line.startswith(f"xodrlint: cannot compile schema {core}: {tmp_path / 'part.xsd'}:3: ")
+
+
+@pytest.mark.parametrize(
+    "element",
+    ['<xs:assertion test="$value gt 0"/>', '<xs:openContent mode="interleave"/>',
+     "<xs:defaultOpenContent/>", '<xs:override schemaLocation="x.xsd"/>'],
+)  # fmt: skip
+def test_other_xsd11_only_elements_make_a_set_xsd11(tmp_path: Path, element: str) -> None:
+    core = tmp_path / "core.xsd"
+    core.write_text(
+        f'<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema">{element}'
+        '<xs:element name="OpenDRIVE"/></xs:schema>'
+    )
+    assert uses_xsd11(core)
+    uses_xsd11.cache_clear()
+
+
+def test_an_unreadable_schema_is_a_one_line_error(tmp_path: Path) -> None:
+    # its version is looked for in its bytes: a read error is the compile's to say
+    done = _cli("check", str(REPO / "examples" / "clean.xodr"), env={
+        "XODRLINT_SCHEMA_PATH": "/proc/self/mem", "XODRLINT_DATA_DIR": str(tmp_path),
+    })  # fmt: skip
+    assert done.returncode == 2, done.stderr
+    assert len(done.stderr.splitlines()) == 1 and "Traceback" not in done.stderr

@@ -162,7 +162,14 @@ def entry_xsd(folder: Path) -> Path | None:
 #: The marker that asks for XSD 1.1 (ASAM's 1.8 files do not always carry it).
 _MIN_VERSION_11: Final = re.compile(rb"minVersion\s*=\s*[\"']1\.1[\"']")
 #: Elements only XSD 1.1 has, by their local names.
-_XSD11_ELEMENTS: Final = (b"assert", b"alternative")
+_XSD11_ELEMENTS: Final = (
+    b"assert",
+    b"assertion",
+    b"alternative",
+    b"openContent",
+    b"defaultOpenContent",
+    b"override",
+)
 _AFTER_A_NAME: Final = frozenset((b" ", b"\t", b"\r", b"\n", b"/", b">"))
 _SCHEMA_LOCATION: Final = re.compile(rb"schemaLocation\s*=\s*[\"']([^\"']+)[\"']")
 
@@ -192,9 +199,9 @@ def uses_xsd11(entry: Path) -> bool:
 
 
 def _holds_xsd11(data: bytes) -> bool:
-    """An ``xs:assert`` or ``xs:alternative`` element (any prefix) or the 1.1 marker. The
-    words are found by byte search, then their neighbours read: a regular expression
-    tried at every byte took milliseconds per set, on every run."""
+    """An element only XSD 1.1 has (``xs:assert``, ``xs:alternative``, ...; any prefix)
+    or the 1.1 marker. The words are found by byte search, then their neighbours read: a
+    regular expression tried at every byte took milliseconds per set, on every run."""
     for word in _XSD11_ELEMENTS:
         at = data.find(word)
         while at > 0:
@@ -222,7 +229,11 @@ def version_of_set(entry: Path) -> tuple[int, int, int] | None:
     named = _VERSION_IN_NAME.search(entry.stem)
     if named:
         return int(named[1]), int(named[2]), int(named[3] or 0)
-    text = _VERSION_IN_TEXT.search(entry.read_bytes()[:2048])
+    try:
+        head = entry.read_bytes()[:2048]
+    except OSError:  # the compile says so, in one line
+        return None
+    text = _VERSION_IN_TEXT.search(head)
     if text:
         return int(text[1]), int(text[2]), int(text[3] or 0)
     return None

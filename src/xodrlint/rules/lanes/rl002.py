@@ -8,7 +8,7 @@ with exactly one rail or tram lane when the centre line of that lane is more tha
 tolerance (0.05 m by default) away from the reference line anywhere along the lane
 section; once per lane section. A `laneOffset` value, or a `width` value of a lane between
 the centre lane and the rail lane, that is no finite number (`INF`, `-INF`, `NaN`,
-`1e999`: valid `xs:double`s the schema accepts) places the centre nowhere: it is
+`1e999`: valid `xs:double`s the schema may accept) places the centre nowhere: it is
 reported as written (the rail lane's own width is RL003's).
 
 The centre is computed exactly: `laneOffset` and the `width` of every lane between the
@@ -75,6 +75,7 @@ from xodrlint.model import (
     LaneSection,
     RailNetwork,
     Road,
+    number,
 )
 from xodrlint.model.lane_profiles import S_TOLERANCE, centre_terms, extremes
 from xodrlint.rules import Settings, rule
@@ -121,7 +122,7 @@ def refline_not_centered(network: RailNetwork, settings: Settings) -> Iterator[H
             rail = section.lanes[rails[0]]
             terms = centre_terms(template, section, start, rail)
             if terms is None:  # a value that is no finite number places the centre nowhere
-                written = _non_finite_placement(template, section, rail)
+                written = _non_finite_placement(template, section, rail, (index, start, end))
                 if written is not None:
                     found.append(_OffCentre(index, rails[0], start, math.nan, start, written))
                 continue
@@ -149,16 +150,13 @@ def refline_not_centered(network: RailNetwork, settings: Settings) -> Iterator[H
             yield Hit(lane.element, message)
 
 
-def _non_finite_placement(template: Road, section: LaneSection, rail: Lane) -> str | None:
-    """What places ``rail``'s centre and is no finite number, as written: a ``laneOffset``
-    value, or a width value of a lane between it and the centre lane (its own width is
-    RL003's to report)."""
-    offsets = (
-        o
-        for lanes in template.element.iterchildren("lanes")
-        for o in lanes.iterchildren("laneOffset")
-    )
-    written = first_non_finite(offsets, ("s", "a", "b", "c", "d"))
+def _non_finite_placement(
+    template: Road, section: LaneSection, rail: Lane, where: tuple[int, float, float]
+) -> str | None:
+    """What places ``rail``'s centre in this lane section and is no finite number, as
+    written: a ``laneOffset`` value that reaches the section, or a width value of a lane
+    between the rail lane and the centre lane (its own width is RL003's to report)."""
+    written = _offset_reaching(template, where)
     if written is not None:
         return f"laneOffset has {written}"
     depth = abs(rail.id) if rail.id is not None else 0
@@ -169,6 +167,37 @@ def _non_finite_placement(template: Road, section: LaneSection, rail: Lane) -> s
             if written is not None:
                 return f"lane '{lane.id}' has a width entry with {written}"
     return None
+
+
+def _offset_reaching(template: Road, where: tuple[int, float, float]) -> str | None:
+    """A non-finite value of a ``laneOffset`` entry that holds somewhere in the section
+    ``where`` (its index, start and end): an entry holds from its s to the next entry's.
+    An entry whose own s is no finite number is reported with the first section only."""
+    index, start, end = where
+    entries = [
+        entry
+        for lanes in template.element.iterchildren("lanes")
+        for entry in lanes.iterchildren("laneOffset")
+    ]
+    starts = [number(entry, "s") for entry in entries]
+    for position, entry in enumerate(entries):
+        begins = starts[position]
+        if begins is None:
+            if index == 0:
+                written = first_non_finite([entry], _CUBIC_VALUES)
+                if written is not None:
+                    return written
+            continue
+        following = [s for s in starts[position + 1 :] if s is not None and s > begins]
+        ends = min(following, default=math.inf)
+        if begins < end and ends > start:
+            written = first_non_finite([entry], _CUBIC_VALUES[1:])
+            if written is not None:
+                return written
+    return None
+
+
+_CUBIC_VALUES: Final = ("s", "a", "b", "c", "d")
 
 
 class _OffCentre(NamedTuple):

@@ -4,7 +4,7 @@
 Reports a lane of type `rail` or `tram` whose width drops below the minimum (1.435 m,
 standard gauge, by default) anywhere along its lane section; once per lane section. A
 `width` value that is no finite number (`INF`, `-INF`, `NaN`, `1e999`: valid
-`xs:double`s the schema accepts) gives no width at all and lies outside every range: it
+`xs:double`s the schema may accept) gives no width at all and lies outside every range: it
 is reported as written.
 
 The width is computed exactly: each `width` entry is the cubic polynomial it is, on its

@@ -4,8 +4,9 @@
 Reports a `segment` whose `@sStart` or `@sEnd` lies outside `[0, length]` of the road
 its `@roadId` names (with a tolerance of 1e-6 m). A value that is no finite number
 (`INF`, `-INF`, `NaN`, or a numeral too large for a double such as `1e999`) is a valid
-`xs:double`, so the schema accepts it; it lies outside every range and is reported as
-written, as are the ends of a segment on a road whose `@length` is such a value.
+`xs:double`, so the schema may accept it; it lies outside every range and is reported
+as written (unless the schema rule already reports the value: `-INF` where s must not be
+negative).
 
 ## Why is this bad?
 This is an inference: `sStart` and `sEnd` are s-coordinates along the segment's road, and
@@ -64,25 +65,22 @@ def segment_s_out_of_range(network: RailNetwork) -> Iterator[Hit]:
         road = network.road_by_id.get(segment.road_id) if segment.road_id is not None else None
         if road is None:
             continue
-        length = non_finite(road.element, "length") if road.length is None else None
-        outside = []
+        outside, written = [], False
         for name, value in (("sStart", segment.s_start), ("sEnd", segment.s_end)):
             if value is None:  # no finite number: reported as written if it is a double
-                written = non_finite(segment.element, name)
-                if written is not None:
-                    outside.append(f"{name}={written}")
-            elif length is not None or (
-                road.length is not None and not within(value, 0.0, road.length)
-            ):
+                text = non_finite(segment.element, name)
+                if text is not None:
+                    outside.append(f"{name}={text}")
+                    written = True
+            elif road.length is not None and not within(value, 0.0, road.length):
                 outside.append(f"{name}={metres(value)}")
         if not outside:
             continue
-        if road.length is not None:
-            span = f"(0 to {metres(road.length)})"
-        else:
-            span = f"(its length is {length})" if length is not None else ""
+        span = f" (0 to {metres(road.length)})" if road.length is not None else ""
         yield Hit(
             segment.element,
             f"segment of platform {quoted(platform.id)} has {' and '.join(outside)}, "
-            f"outside road '{road.id}' {span}".rstrip(),
+            f"outside road '{road.id}'{span}",
+            # where the schema refuses the value too (-INF, blanks): one finding
+            defers_to=("ST003", "XS006") if written else None,
         )

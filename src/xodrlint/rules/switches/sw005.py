@@ -4,8 +4,8 @@
 Reports a `mainTrack` or `sideTrack` whose `@s` lies outside `[0, length]` of the road it
 names (with a tolerance of 1e-6 m). A value that is no finite number (`INF`, `-INF`,
 `NaN`, or a numeral too large for a double such as `1e999`) is a valid `xs:double`, so
-the schema accepts it; it lies outside every range and is reported as written, as is an
-`@s` on a road whose `@length` is such a value.
+the schema may accept it; it lies outside every range and is reported as written
+(unless the schema rule already reports the value: `-INF` where s must not be negative).
 
 ## Why is this bad?
 This is an inference: the standard defines `s` of a track as the position of the switch
@@ -42,12 +42,15 @@ stays silent on a side track SW005 reports.
 from __future__ import annotations
 
 from collections.abc import Iterator
+from typing import Final
 
 from xodrlint.findings import Hit, Severity
 from xodrlint.model import RailNetwork, non_finite
 from xodrlint.rules import rule
 from xodrlint.rules._shared import metres, quoted, within
 from xodrlint.rules.switches._tracks import named_road, track_refs
+
+_AFTER_THE_SCHEMA: Final = ("SW004", "XS006")
 
 
 @rule(
@@ -65,17 +68,13 @@ def track_s_out_of_range(network: RailNetwork) -> Iterator[Hit]:
                 continue
             where = f"{kind} of switch {quoted(switch.id)}"
             written = non_finite(track.element, "s") if track.s is None else None
-            length = non_finite(road.element, "length") if road.length is None else None
             if written is not None:  # no range holds it, whatever the road's length
                 span = f" (0 to {metres(road.length)})" if road.length is not None else ""
                 yield Hit(
-                    track.element, f"{where} is at s={written}, outside road '{road.id}'{span}"
-                )
-            elif length is not None and track.s is not None:
-                yield Hit(
                     track.element,
-                    f"{where} is at s={metres(track.s)} of road '{road.id}', whose length is "
-                    f"{length}: no range holds it",
+                    f"{where} is at s={written}, outside road '{road.id}'{span}",
+                    # where the schema refuses the value too (-INF, blanks): one finding
+                    defers_to=_AFTER_THE_SCHEMA,
                 )
             elif (
                 road.length is not None
