@@ -421,3 +421,48 @@ def test_an_unreadable_schema_is_a_one_line_error(tmp_path: Path) -> None:
     })  # fmt: skip
     assert done.returncode == 2, done.stderr
     assert len(done.stderr.splitlines()) == 1 and "Traceback" not in done.stderr
+
+
+# -- issue 18, item 2: a set given for every version, said in every report ---------------
+
+
+def _declared_14(tmp_path: Path) -> Path:
+    path = tmp_path / "old.xodr"
+    path.write_text(
+        (REPO / "examples" / "clean.xodr").read_text().replace('revMinor="7"', 'revMinor="4"')
+    )
+    return path
+
+
+@needs_shared
+def test_a_set_given_for_every_version_is_said_for_a_file_of_another(tmp_path: Path) -> None:
+    old = _declared_14(tmp_path)
+    single = str(SHARED_SCHEMAS / "1.7.0")
+    done = _cli("check", str(old), "--schema", single, "-f", "json")
+    schema = json.loads(done.stdout)["files"][0]["schema"]
+    assert schema["description"].startswith("OpenDRIVE 1.7.0 schema")
+    assert schema["note"] == (
+        "the file declares OpenDRIVE 1.4; the OpenDRIVE 1.7.0 schema given for every "
+        "version (--schema) validated it"
+    )
+    sarif = json.loads(_cli("check", str(old), "--schema", single, "-f", "sarif").stdout)
+    run = sarif["runs"][0]
+    (entry,) = run["properties"]["schemas"]
+    assert entry["note"] == schema["note"]
+    notes = [n["message"]["text"] for n in run["invocations"][0]["toolExecutionNotifications"]]
+    assert any(schema["note"] in note for note in notes)
+    text = _cli("check", str(old), "--schema", single).stdout.splitlines()
+    assert text[0] == "All checks passed: 1 file, no findings."
+    assert f"note: {old}: {schema['note']}" in text
+    assert any(line.startswith("note: validated with the OpenDRIVE 1.7.0 schema") for line in text)
+
+
+@needs_shared
+def test_a_set_of_the_files_own_version_has_nothing_to_say(tmp_path: Path) -> None:
+    old = _declared_14(tmp_path)
+    for schema in (SHARED_SCHEMAS, SHARED_SCHEMAS / "1.4"):
+        report = json.loads(_cli("check", str(old), "--schema", str(schema), "-f", "json").stdout)
+        assert report["files"][0]["schema"]["note"] is None
+    clean = _cli("check", str(REPO / "examples" / "clean.xodr"), "--schema", str(SHARED_SCHEMAS))
+    # a clean text run still names the schema it used
+    assert "note: validated with the OpenDRIVE 1.7.0 schema" in clean.stdout

@@ -258,9 +258,12 @@ class Linter:
             self._last_document = LastDocument(doc, None if fatal else network)
         self._run(self._model_rules, network, doc, stamped, crashes)
         check = pending.result() if pending is not None else None
+        schema_note = None
         if check is not None:
             problems[SCHEMA_RULE] = list(check.hits)
             schema_label, builtin = check.schema.describe(), check.schema.is_builtin
+            if doc.effective is not None:
+                schema_note = check.schema.version_note(*doc.effective)
         self._run(self._document_rules, RailNetwork(problems=problems), doc, stamped, crashes)
         kept, withheld = self._apply_suppressions(doc, _one_defect_one_finding(stamped), external)
         findings = sorted(kept, key=lambda f: f.sort_key)
@@ -279,6 +282,7 @@ class Linter:
             schema_builtin=builtin,
             internal_errors=tuple(crashes),
             suppressed=tuple(withheld) if self.options.keep_suppressed else (),
+            schema_note=schema_note,
         )
 
     def _run(

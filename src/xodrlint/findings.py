@@ -217,6 +217,10 @@ class FileReport(NamedTuple):
     """The text of each line a finding is on, when the run asked to show source."""
     suppressed: tuple[Suppressed, ...] = ()
     """Findings withheld by suppressions, kept only when the run asked for them."""
+    schema_note: str | None = None
+    """Set when the schema was given for every version and is not the file's own: the
+    file declares another version (a 1.4 file checked with a 1.7 set passes where its
+    own set would not), and every report says so."""
 
 
 class RunResult(NamedTuple):

@@ -61,7 +61,11 @@ def _file(report: FileReport) -> dict[str, object]:
         "schema": (
             None
             if report.schema is None
-            else {"description": report.schema, "builtin": report.schema_builtin}
+            else {
+                "description": report.schema,
+                "builtin": report.schema_builtin,
+                "note": report.schema_note,
+            }
         ),
         "findings": len(report.findings),
         "error": report.error,

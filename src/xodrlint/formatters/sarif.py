@@ -101,6 +101,7 @@ def as_sarif(result: RunResult) -> JsonObject:
         "originalUriBaseIds": {SRCROOT: {"uri": root_uri(result.root)}},
         "results": results,
         "columnKind": "unicodeCodePoints",
+        "properties": {"schemas": _schemas(result)},
     }
     return {"$schema": SCHEMA_URI, "version": SARIF_VERSION, "runs": [run]}
 
@@ -218,6 +219,21 @@ def _result(
     return entry
 
 
+def _schemas(result: RunResult) -> list[JsonObject]:
+    """Which schema validated each file (every report says so), with its note when the
+    schema was given for every version and is not the file's own."""
+    return [
+        {
+            "artifactLocation": artifact_location(report.path, result.root),
+            "schema": report.schema,
+            "builtin": report.schema_builtin,
+            "note": report.schema_note,
+        }
+        for report in result.reports
+        if report.schema is not None
+    ]
+
+
 def _invocation(result: RunResult, rule_index: Callable[[str], int]) -> JsonObject:
     rules = rules_by_code(result)
     notifications: list[JsonObject] = []
@@ -228,6 +244,14 @@ def _invocation(result: RunResult, rule_index: Callable[[str], int]) -> JsonObje
         if report.error:
             notifications.append(
                 {"level": "error", "message": {"text": report.error}, "locations": [file_location]}
+            )
+        if report.schema_note:
+            notifications.append(
+                {
+                    "level": "warning",
+                    "message": {"text": f"{report.path}: {report.schema_note}"},
+                    "locations": [file_location],
+                }
             )
         notifications.extend(
             {

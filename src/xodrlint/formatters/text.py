@@ -33,8 +33,8 @@ class TextFormatter:
                 self._file(console, report)
         if not self.quiet:
             console.print(_summary(result))
-            for note in result.notes:
-                console.print(Text("note: ", style="bold") + Text(note))
+            for note in [*result.notes, *_schema_notes(result)]:
+                console.print(Text("note: ", style="bold") + Text(one_line(note)))
 
     def _file(self, console: Console, report: FileReport) -> None:
         if not self.quiet:
@@ -42,6 +42,8 @@ class TextFormatter:
             facts = [f"OpenDRIVE {report.declared_version}"] if report.declared_version else []
             if report.schema:
                 facts.append(f"schema: {report.schema}")
+            if report.schema_note:
+                facts.append(report.schema_note)
             if facts:
                 header.append(f"  ({'; '.join(facts)})", style="dim")
             console.print(header)
@@ -57,6 +59,22 @@ class TextFormatter:
                 )
         if not self.quiet:
             console.print()
+
+
+def _schema_notes(result: RunResult) -> list[str]:
+    """What the file headers do not say for files without findings: the schema each was
+    validated with (every report names it), and when it was not of the file's version."""
+    shown = {r.schema for r in result.reports if r.findings}
+    notes: list[str] = []
+    for report in result.reports:
+        if report.findings or report.schema is None or report.schema_builtin:
+            continue
+        if report.schema_note:
+            notes.append(f"{report.path}: {report.schema_note}")
+        if report.schema not in shown:
+            shown.add(report.schema)
+            notes.append(f"validated with the {report.schema}")
+    return notes
 
 
 def _line(finding: Finding) -> Text:

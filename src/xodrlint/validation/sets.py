@@ -65,11 +65,35 @@ class SchemaSet(NamedTuple):
         return (version is not None and version >= (1, 8, 0)) or uses_xsd11(self.entry)
 
     @property
+    def serves_every_version(self) -> bool:
+        """A set given as one file or one folder: it validates files of every version."""
+        return self.version is None and not self.is_builtin
+
+    @property
+    def own_version(self) -> tuple[int, int, int] | None:
+        """The version the set is of: its own, else read off its folder, name or header."""
+        return self.version or version_of_set(self.entry)
+
+    @property
     def label(self) -> str:
         if self.is_builtin and self.version is not None:
             return f"built-in railroad schema for OpenDRIVE {self.version[0]}.{self.version[1]}"
-        version = ".".join(map(str, self.version)) if self.version else "any version"
+        own = self.own_version
+        version = ".".join(map(str, own)) if own else "unknown version"
         return f"OpenDRIVE {version} schema"
+
+    def version_note(self, major: int, minor: int) -> str | None:
+        """What a report says of a file of ``major.minor`` validated with this set when
+        it was given for every version and is of another (or of no known) version."""
+        if not self.serves_every_version:
+            return None
+        own = self.own_version
+        if own is not None and own[:2] == (major, minor):
+            return None
+        return (
+            f"the file declares OpenDRIVE {major}.{minor}; the {self.label} given for every "
+            f"version ({self.origin}) validated it"
+        )
 
     def describe(self) -> str:
         if self.is_builtin:
