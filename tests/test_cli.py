@@ -648,3 +648,47 @@ def test_the_last_linter_outlives_its_run_and_only_the_last() -> None:
     cli("check", CLEAN, code=0)
     (replaced,) = check._LAST_LINTER
     assert replaced is not kept
+
+
+def test_schemas_fetch_without_pip_says_how_to_fetch_by_hand(
+    isolated_schemas: Path, tmp_path: Path
+) -> None:
+    # some virtual-environment tools make environments without pip: a one-line answer
+    # naming the wheel and --wheel, not "No module named pip"
+    import subprocess
+    import sys
+
+    hide_pip = tmp_path / "hide_pip"
+    hide_pip.mkdir()
+    (hide_pip / "sitecustomize.py").write_text(
+        "import sys\n"
+        "class _NoPip:\n"
+        "    def find_spec(self, name, path=None, target=None):\n"
+        "        if name == 'pip' or name.startswith('pip.'):\n"
+        "            raise ModuleNotFoundError(\"No module named 'pip'\")\n"
+        "        return None\n"
+        "sys.meta_path.insert(0, _NoPip())\n"
+    )
+    env = {**os.environ, "PYTHONPATH": f"{hide_pip}{os.pathsep}{os.environ.get('PYTHONPATH', '')}"}
+    done = subprocess.run(
+        [sys.executable, "-m", "xodrlint", "schemas", "fetch"],
+        capture_output=True, text=True, env=env, check=False,
+    )  # fmt: skip
+    assert done.returncode == 2, done.stderr
+    (line,) = done.stderr.splitlines()
+    assert "pip is not installed in this environment" in line
+    assert "asam_qc_opendrive-1.0.0-py3-none-any.whl" in line and "--wheel PATH" in line
+
+
+def test_a_19_file_without_its_set_is_told_where_the_set_comes_from() -> None:
+    from xodrlint.cli.check import FULL_VALIDATION_NOTE, run_notes
+    from xodrlint.findings import FileReport
+
+    old = FileReport("a.xodr", declared_version="1.7", schema="built-in", schema_builtin=True)
+    new = FileReport("b.xodr", declared_version="1.9", schema="built-in", schema_builtin=True)
+    assert run_notes([old]) == (FULL_VALIDATION_NOTE,)
+    (note,) = run_notes([new])
+    assert "OpenDRIVE 1.9" in note and "schemas add PATH" in note and "1.8.0 only" in note
+    assert len(run_notes([old, new])) == 2
+    official = FileReport("c.xodr", declared_version="1.9", schema="OpenDRIVE 1.9.0 schema")
+    assert run_notes([official]) == ()

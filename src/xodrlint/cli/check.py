@@ -32,6 +32,7 @@ from xodrlint.config import (
     read_config,
     settings_from,
 )
+from xodrlint.document import Version, nearest_published
 from xodrlint.engine import (
     Linter,
     LintOptions,
@@ -50,6 +51,10 @@ from xodrlint.suppress import UNUSED_META
 from xodrlint.validation.sets import SCHEMA_PATH_ENV, Origin, SchemaLoadError
 from xodrlint.workers.batch import Task, default_jobs, lint_tasks
 
+#: The newest version whose official set ``xodrlint schemas fetch`` brings, and where
+#: ASAM publishes the others.
+LAST_FETCHED: Final = (1, 8)
+ASAM_DOWNLOADS: Final = "https://www.asam.net/standards/detail/opendrive/"
 FULL_VALIDATION_NOTE: Final = (
     "only railroad elements were validated (built-in schema); for full OpenDRIVE "
     f"validation run 'xodrlint schemas fetch', or point {SCHEMA_PATH_ENV} or --schema at "
@@ -374,7 +379,30 @@ def _check_output_target(flag: str, output: str | None, inputs: list[Input]) -> 
 
 
 def run_notes(reports: list[FileReport]) -> tuple[str, ...]:
-    return (FULL_VALIDATION_NOTE,) if any(r.schema_builtin for r in reports) else ()
+    """What a run says of files the built-in schema alone validated: where the official
+    set of their version comes from (``schemas fetch`` brings 1.1 to 1.8.0, not 1.9)."""
+    versions = {_published(r.declared_version) for r in reports if r.schema_builtin}
+    notes = []
+    if any(version is None or version <= LAST_FETCHED for version in versions):
+        notes.append(FULL_VALIDATION_NOTE)
+    later = sorted(v for v in versions if v is not None and v > LAST_FETCHED)
+    if later:
+        named = ", ".join(f"{major}.{minor}" for major, minor in later)
+        notes.append(
+            f"no official schema for OpenDRIVE {named} was found, and 'xodrlint schemas "
+            f"fetch' brings sets up to {LAST_FETCHED[0]}.{LAST_FETCHED[1]}.0 only: download "
+            f"it from ASAM ({ASAM_DOWNLOADS}) and add it with 'xodrlint schemas add PATH', "
+            f"or point {SCHEMA_PATH_ENV} or --schema at it"
+        )
+    return tuple(notes)
+
+
+def _published(declared: str | None) -> tuple[int, int] | None:
+    major, _, minor = (declared or "").partition(".")
+    if not (major.isdigit() and minor.isdigit()):
+        return None
+    found = nearest_published(Version(int(major), int(minor)))
+    return found.major, found.minor
 
 
 def _write_baseline(path: Path, reports: list[FileReport], root: str) -> int:

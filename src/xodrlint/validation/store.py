@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import importlib.util
 import os
 import re
 import shutil
@@ -121,6 +122,8 @@ _HOST: Final = re.compile(r"host='([^']+)', port=(\d+)")
 
 
 def _download(scratch: Path) -> Path:
+    if not _pip_here():  # some virtual-environment tools make environments without pip
+        raise StoreError(_WITHOUT_PIP)
     command = [
         sys.executable, "-m", "pip", "download", "--no-deps", "--only-binary", ":all:",
         "--disable-pip-version-check", "--quiet", "--dest", str(scratch),
@@ -140,6 +143,8 @@ def _download(scratch: Path) -> Path:
                 f"pip could not reach the package index {_index_url()}{where}; without a "
                 "network, 'xodrlint schemas add' takes an ASAM download (a folder or a zip)"
             ) from error
+        if "No module named pip" in said:
+            raise StoreError(_WITHOUT_PIP) from error
         last = said.strip().splitlines()
         raise StoreError(f"pip download failed: {last[-1] if last else error}") from error
     except subprocess.TimeoutExpired as error:
@@ -148,6 +153,21 @@ def _download(scratch: Path) -> Path:
     if not wheel.is_file():
         raise StoreError(f"pip did not produce {QC_WHEEL}")
     return wheel
+
+
+def _pip_here() -> bool:
+    try:
+        return importlib.util.find_spec("pip") is not None
+    except (ImportError, ValueError):  # a broken or hidden pip is no pip
+        return False
+
+
+#: What ``fetch`` says where pip cannot run: the one download to make by hand.
+_WITHOUT_PIP: Final = (
+    f"pip is not installed in this environment ({sys.executable}): download {QC_WHEEL} "
+    f"from https://pypi.org/project/asam-qc-opendrive/#files and run 'xodrlint schemas "
+    "fetch --wheel PATH' (its SHA-256 is checked)"
+)
 
 
 def _index_url() -> str:
