@@ -689,6 +689,7 @@ def test_a_19_file_without_its_set_is_told_where_the_set_comes_from() -> None:
     assert run_notes([old]) == (FULL_VALIDATION_NOTE,)
     (note,) = run_notes([new])
     assert "OpenDRIVE 1.9" in note and "schemas add PATH" in note and "1.8.0 only" in note
+    assert note.startswith("only railroad elements were validated (built-in schema)")
     assert len(run_notes([old, new])) == 2
     official = FileReport("c.xodr", declared_version="1.9", schema="OpenDRIVE 1.9.0 schema")
     assert run_notes([official]) == ()

@@ -449,7 +449,8 @@ def test_a_set_given_for_every_version_is_said_for_a_file_of_another(tmp_path: P
     run = sarif["runs"][0]
     (entry,) = run["properties"]["schemas"]
     assert entry["note"] == schema["note"]
-    notes = [n["message"]["text"] for n in run["invocations"][0]["toolExecutionNotifications"]]
+    invocation = run["invocations"][0]
+    notes = [n["message"]["text"] for n in invocation["toolConfigurationNotifications"]]
     assert any(schema["note"] in note for note in notes)
     text = _cli("check", str(old), "--schema", single).stdout.splitlines()
     assert text[0] == "All checks passed: 1 file, no findings."
@@ -466,3 +467,27 @@ def test_a_set_of_the_files_own_version_has_nothing_to_say(tmp_path: Path) -> No
     clean = _cli("check", str(REPO / "examples" / "clean.xodr"), "--schema", str(SHARED_SCHEMAS))
     # a clean text run still names the schema it used
     assert "note: validated with the OpenDRIVE 1.7.0 schema" in clean.stdout
+
+
+@needs_shared
+def test_the_note_names_the_declared_version_and_the_one_checked(tmp_path: Path) -> None:
+    path = tmp_path / "new.xodr"
+    text = (REPO / "examples" / "clean.xodr").read_text().replace('revMinor="7"', 'revMinor="10"')
+    path.write_text(text)
+    done = _cli("check", str(path), "--schema", str(SHARED_SCHEMAS / "1.7.0"), "-f", "json")
+    note = json.loads(done.stdout)["files"][0]["schema"]["note"]
+    assert note.startswith("the file declares OpenDRIVE 1.10 (checked as 1.9); the OpenDRIVE 1.7.0")
+
+
+def test_a_set_of_unknown_version_says_so_once_in_its_label(tmp_path: Path) -> None:
+    loose = tmp_path / "loose.xsd"
+    loose.write_text(
+        '<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema">'
+        '<xs:element name="OpenDRIVE"/></xs:schema>'
+    )
+    found = SchemaSet(loose, None, Origin.OPTION)
+    assert found.label == "schema of unknown OpenDRIVE version"
+    assert found.version_note((1, 4), (1, 4)) is None  # nothing tells it differs
+    listed = _cli("schemas", "list", env={"XODRLINT_SCHEMA_PATH": str(loose),
+                                          "XODRLINT_DATA_DIR": str(tmp_path / "data")})  # fmt: skip
+    assert "(from XODRLINT_SCHEMA_PATH for every version)" in listed.stdout

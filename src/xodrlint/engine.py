@@ -262,8 +262,8 @@ class Linter:
         if check is not None:
             problems[SCHEMA_RULE] = list(check.hits)
             schema_label, builtin = check.schema.describe(), check.schema.is_builtin
-            if doc.effective is not None:
-                schema_note = check.schema.version_note(*doc.effective)
+            if doc.effective is not None and doc.declared is not None:
+                schema_note = check.schema.version_note(doc.declared, doc.effective)
         self._run(self._document_rules, RailNetwork(problems=problems), doc, stamped, crashes)
         kept, withheld = self._apply_suppressions(doc, _one_defect_one_finding(stamped), external)
         findings = sorted(kept, key=lambda f: f.sort_key)

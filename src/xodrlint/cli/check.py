@@ -389,6 +389,7 @@ def run_notes(reports: list[FileReport]) -> tuple[str, ...]:
     if later:
         named = ", ".join(f"{major}.{minor}" for major, minor in later)
         notes.append(
+            "only railroad elements were validated (built-in schema): "
             f"no official schema for OpenDRIVE {named} was found, and 'xodrlint schemas "
             f"fetch' brings sets up to {LAST_FETCHED[0]}.{LAST_FETCHED[1]}.0 only: download "
             f"it from ASAM ({ASAM_DOWNLOADS}) and add it with 'xodrlint schemas add PATH', "

@@ -23,7 +23,8 @@ def list_schemas() -> int:
     sets = list(finder.official_sets())
     if sets:
         for found in sets:
-            out.write(f"{found.label:40} {found.entry}  (from {found.origin})\n")
+            serves = " for every version" if found.serves_every_version else ""
+            out.write(f"{found.label:40} {found.entry}  (from {found.origin}{serves})\n")
     else:
         out.write("no official schemas found\n")
     minors = range(4, 10)

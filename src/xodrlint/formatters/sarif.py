@@ -15,7 +15,10 @@
 - Files that could not be read, rule crashes and files that do not parse (XS001, which
   is a result too) are ``toolExecutionNotifications`` of the one invocation; a run with
   an unreadable file or a crash has ``executionSuccessful: false``. The run's notes (the
-  built-in schema only checked railroad elements) are ``toolConfigurationNotifications``.
+  built-in schema only checked railroad elements) are ``toolConfigurationNotifications``,
+  and so is each file that a schema given for every version validated although the file
+  declares another version.
+- Which schema validated each file is in the run's ``properties.schemas``.
 
 The output holds no timestamps: the same input gives the same bytes.
 """
@@ -245,14 +248,6 @@ def _invocation(result: RunResult, rule_index: Callable[[str], int]) -> JsonObje
             notifications.append(
                 {"level": "error", "message": {"text": report.error}, "locations": [file_location]}
             )
-        if report.schema_note:
-            notifications.append(
-                {
-                    "level": "warning",
-                    "message": {"text": f"{report.path}: {report.schema_note}"},
-                    "locations": [file_location],
-                }
-            )
         notifications.extend(
             {
                 "level": "error",
@@ -282,8 +277,24 @@ def _invocation(result: RunResult, rule_index: Callable[[str], int]) -> JsonObje
         "executionSuccessful": not any(r.error or r.internal_errors for r in result.reports),
         "toolExecutionNotifications": notifications,
     }
-    if result.notes:
-        invocation["toolConfigurationNotifications"] = [
-            {"level": "note", "message": {"text": note}} for note in result.notes
-        ]
+    configuration: list[JsonObject] = [
+        {"level": "note", "message": {"text": note}} for note in result.notes
+    ]
+    configuration += [
+        {
+            "level": "warning",
+            "message": {"text": f"{report.path}: {report.schema_note}"},
+            "locations": [
+                {
+                    "physicalLocation": {
+                        "artifactLocation": artifact_location(report.path, result.root)
+                    }
+                }
+            ],
+        }
+        for report in result.reports
+        if report.schema_note
+    ]
+    if configuration:
+        invocation["toolConfigurationNotifications"] = configuration
     return invocation

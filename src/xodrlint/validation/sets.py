@@ -79,20 +79,22 @@ class SchemaSet(NamedTuple):
         if self.is_builtin and self.version is not None:
             return f"built-in railroad schema for OpenDRIVE {self.version[0]}.{self.version[1]}"
         own = self.own_version
-        version = ".".join(map(str, own)) if own else "unknown version"
-        return f"OpenDRIVE {version} schema"
+        if own is None:
+            return "schema of unknown OpenDRIVE version"
+        return f"OpenDRIVE {'.'.join(map(str, own))} schema"
 
-    def version_note(self, major: int, minor: int) -> str | None:
-        """What a report says of a file of ``major.minor`` validated with this set when
-        it was given for every version and is of another (or of no known) version."""
-        if not self.serves_every_version:
-            return None
+    def version_note(self, declared: tuple[int, int], effective: tuple[int, int]) -> str | None:
+        """What a report says of a file that declares ``declared`` (checked as the
+        published ``effective``) validated with this set, when the set was given for every
+        version and is of another one. Silent where the set's version is unknown: nothing
+        tells whether it differs (its label says it is unknown)."""
         own = self.own_version
-        if own is not None and own[:2] == (major, minor):
+        if not self.serves_every_version or own is None or own[:2] == effective:
             return None
+        checked = "" if declared == effective else f" (checked as {effective[0]}.{effective[1]})"
         return (
-            f"the file declares OpenDRIVE {major}.{minor}; the {self.label} given for every "
-            f"version ({self.origin}) validated it"
+            f"the file declares OpenDRIVE {declared[0]}.{declared[1]}{checked}; the "
+            f"{self.label} given for every version ({self.origin}) validated it"
         )
 
     def describe(self) -> str:
@@ -242,6 +244,7 @@ def _version_of_folder(name: str) -> tuple[int, int, int]:
     return int(match[1]), int(match[2]), int(match[3] or 0)
 
 
+@functools.lru_cache(maxsize=64)
 def version_of_set(entry: Path) -> tuple[int, int, int] | None:
     """Guess a schema set's version from its folder, file name or ASAM's header comment."""
     folder = _VERSION_DIR.match(entry.parent.name)
