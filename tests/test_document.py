@@ -234,3 +234,15 @@ def test_xpath_steps_are_built_once_per_sibling_group() -> None:
     assert doc.xpath_of(roads[2999]) == "/OpenDRIVE/road[3000]"
     assert doc.root.getroottree().xpath(doc.xpath_of(roads[1234])) == [roads[1234]]
     assert isinstance(roads[0], etree._Element)
+
+
+def test_a_file_in_the_namespace_of_the_11_and_12_schemas_is_read_without_it() -> None:
+    from xodrlint.document import load_bytes
+
+    doc = load_bytes(
+        b'<OpenDRIVE xmlns="www.vires.com"><header revMajor="1" revMinor="2"/></OpenDRIVE>',
+        "vires.xodr",
+    )
+    assert doc.problems == {}
+    assert doc.root is not None and doc.root.tag == "OpenDRIVE"
+    assert doc.root[0].tag == "header" and str(doc.declared) == "1.2"

@@ -491,3 +491,47 @@ def test_a_set_of_unknown_version_says_so_once_in_its_label(tmp_path: Path) -> N
     listed = _cli("schemas", "list", env={"XODRLINT_SCHEMA_PATH": str(loose),
                                           "XODRLINT_DATA_DIR": str(tmp_path / "data")})  # fmt: skip
     assert "(from XODRLINT_SCHEMA_PATH for every version)" in listed.stdout
+
+
+# -- issue 18, item 3: VIRES' 1.1 and 1.2 sets declare a target namespace ------------------
+
+VIRES_LIKE = """<?xml version="1.0"?>
+<xsd:schema xmlns:xsd="http://www.w3.org/2001/XMLSchema" targetNamespace="www.vires.com"
+    xmlns="www.vires.com" elementFormDefault="qualified">
+  <xsd:element name="OpenDRIVE">
+    <xsd:complexType>
+      <xsd:sequence>
+        <xsd:element name="header" type="header"/>
+        <xsd:element name="road" type="road" maxOccurs="unbounded"/>
+      </xsd:sequence>
+    </xsd:complexType>
+  </xsd:element>
+  <xsd:complexType name="header">
+    <xsd:attribute name="revMajor" type="xsd:unsignedShort"/>
+    <xsd:attribute name="revMinor" type="xsd:unsignedShort"/>
+  </xsd:complexType>
+  <xsd:complexType name="road">
+    <xsd:attribute name="length" type="xsd:double" use="required"/>
+    <xsd:attribute name="id" type="xsd:string"/>
+  </xsd:complexType>
+</xsd:schema>
+"""
+
+
+@pytest.mark.parametrize("namespace", ["", ' xmlns="www.vires.com"'])
+def test_a_set_with_a_target_namespace_validates_files_of_its_version(
+    tmp_path: Path, namespace: str
+) -> None:
+    # files of 1.1 and 1.2 are read without a namespace (one in VIRES' is dropped, like
+    # ASAM's old one): the set's own namespace is dropped too, so both get its verdict
+    (tmp_path / "sets" / "1.1").mkdir(parents=True)
+    (tmp_path / "sets" / "1.1" / "OpenDRIVE_1.1.xsd").write_text(VIRES_LIKE)
+    document = tmp_path / "old.xodr"
+    document.write_text(
+        f'<OpenDRIVE{namespace}><header revMajor="1" revMinor="1"/>'
+        '<road id="1" length="10"/>\n<road id="2"/></OpenDRIVE>'
+    )
+    report = _lint(document, tmp_path / "sets")
+    assert report.schema is not None and "1.1" in report.schema
+    assert [(f.code, f.line) for f in report.findings] == [("XS006", 2)]
+    assert "length" in report.findings[0].message

@@ -18,6 +18,10 @@ from xodrlint.messages import readable_parser_message
 
 #: ASAM's pre-1.6 namespace; files using it are read as if un-namespaced.
 ASAM_LEGACY_NAMESPACE: Final = "http://code.asam.net/simulation/standard/opendrive_schema"
+#: The namespace of VIRES' OpenDRIVE 1.1 and 1.2 schemas, read the same way.
+VIRES_NAMESPACE: Final = "www.vires.com"
+#: Namespaces of earlier OpenDRIVE schemas: a file in one is read as if un-namespaced.
+LEGACY_NAMESPACES: Final = frozenset({ASAM_LEGACY_NAMESPACE, VIRES_NAMESPACE})
 
 #: The minor versions of OpenDRIVE 1.x that ASAM has published.
 KNOWN_MINORS: Final = range(1, 10)
@@ -140,8 +144,9 @@ def load_bytes(data: bytes, path: str) -> Document:
         doc.report("XS001", Hit(None, "the file holds no XML element", line=1))
         return doc
     doc.tree = root.getroottree()
-    if etree.QName(root).namespace == ASAM_LEGACY_NAMESPACE:
-        _drop_legacy_namespace(root)
+    legacy = etree.QName(root).namespace
+    if legacy in LEGACY_NAMESPACES:
+        _drop_legacy_namespace(root, legacy)
     if root.tag != "OpenDRIVE":
         doc.report("XS002", Hit(root, _root_message(root)))
         return doc
@@ -169,9 +174,10 @@ def _syntax_error_hit(error: etree.XMLSyntaxError, log: etree._ListErrorLog) -> 
 _LIBXML2_POSITION_SUFFIX: Final = re.compile(r",\s*line \d+, column \d+$")
 
 
-def _drop_legacy_namespace(root: etree._Element) -> None:
-    """Rename elements of ASAM's old namespace to their local names, on the tree only."""
-    prefix = "{" + ASAM_LEGACY_NAMESPACE + "}"
+def _drop_legacy_namespace(root: etree._Element, namespace: str) -> None:
+    """Rename elements of an earlier schema's namespace to their local names, on the tree
+    only."""
+    prefix = "{" + namespace + "}"
     for element in root.iter(etree.Element):
         tag = element.tag
         if isinstance(tag, str) and tag.startswith(prefix):

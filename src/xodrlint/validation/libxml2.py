@@ -7,6 +7,7 @@ from :mod:`~xodrlint.validation.messages`.
 from __future__ import annotations
 
 import os
+import re
 import threading
 from collections.abc import Iterable, Iterator
 from pathlib import Path
@@ -80,6 +81,30 @@ def writes_while_validating(schema_root: etree._Element) -> bool:
     return False
 
 
+def without_target_namespace(schema: etree._ElementTree) -> etree._ElementTree:
+    """The schema with its target namespace dropped, where it declares one and names it
+    only as its default namespace (VIRES' OpenDRIVE 1.1 and 1.2 sets: ``www.vires.com``).
+    OpenDRIVE files are read without a namespace (``document`` drops an earlier schema's
+    namespace), so the set validates them as the files its version was written for. Other
+    schemas are returned as they are."""
+    root = schema.getroot()
+    target = root.get("targetNamespace")
+    if not target or root.nsmap.get(None) != target:
+        return schema
+    if any(prefix and uri == target for prefix, uri in root.nsmap.items()):
+        return schema  # a prefix for it would need rewriting in every reference
+    text = etree.tostring(root)  # the root alone: its start tag comes first
+    head_end = text.index(b">") + 1
+    head = _TARGET_NAMESPACE.sub(b"", text[:head_end])
+    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False)
+    url = schema.docinfo.URL
+    return etree.ElementTree(etree.fromstring(head + text[head_end:], parser, base_url=url))
+
+
+#: The root's own target namespace and default namespace declaration (the same URI).
+_TARGET_NAMESPACE: Final = re.compile(rb"""\s(?:targetNamespace|xmlns)\s*=\s*(["'])[^"']*\1""")
+
+
 def _selector(identity: etree._Element) -> str:
     selector = identity.find(f"{{{XS}}}selector")
     return "" if selector is None else (selector.get("xpath") or "").strip()
@@ -91,6 +116,7 @@ class Libxml2Validator:
     def __init__(self, entry: Path, *, direct: bool = True) -> None:
         """``direct=False`` for a set only ever validated in subtrees (through lxml)."""
         self._documents = read_schema_source(entry).trees
+        self._documents[0] = without_target_namespace(self._documents[0])
         root = self._documents[0].getroot()
         fix_known_schema_bugs(root)
         #: libxml2 reads a whole document with the GIL released (see

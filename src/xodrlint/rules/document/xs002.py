@@ -3,8 +3,9 @@
 ## What it does
 Reports a well-formed XML file whose root element is not `OpenDRIVE`, or is `OpenDRIVE`
 in a namespace. Files in ASAM's old namespace
-`http://code.asam.net/simulation/standard/opendrive_schema` are accepted and read as if
-they had none.
+`http://code.asam.net/simulation/standard/opendrive_schema`, or in `www.vires.com` (the
+namespace of the OpenDRIVE 1.1 and 1.2 schemas), are accepted and read as if they had
+none.
 
 ## Why is this bad?
 The file is not an OpenDRIVE map (often an OpenSCENARIO or railML file with the wrong
