@@ -16,28 +16,19 @@ from xodrlint.engine import Linter, LintOptions
 from .conftest import REPO, SHARED_SCHEMAS, needs_shared
 
 
-def _generator() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("generate", REPO / "benchmarks" / "generate.py")
+def _benchmark_module(name: str) -> ModuleType:
+    """A module of benchmarks/, registered under its own name (railway.py imports
+    generate.py by that name)."""
+    spec = importlib.util.spec_from_file_location(name, REPO / "benchmarks" / f"{name}.py")
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
-    sys.modules["generate"] = module
+    sys.modules[name] = module
     spec.loader.exec_module(module)
     return module
 
 
-GENERATE = _generator()
-
-
-def _railway() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("railway", REPO / "benchmarks" / "railway.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["railway"] = module
-    spec.loader.exec_module(module)
-    return module
-
-
-RAILWAY = _railway()
+GENERATE = _benchmark_module("generate")
+RAILWAY = _benchmark_module("railway")
 
 
 @pytest.mark.parametrize("minor", [4, 7, 8])
