@@ -41,65 +41,46 @@ SIDING_CURVATURE: Final = -1 / 400  # curving away from line A
 SWITCHES_PER_BLOCK: Final = 3
 STATION_EVERY: Final = 3  # blocks
 
+
+def _offset(s: str, a: str) -> str:
+    return f'      <laneOffset s="{s}" a="{a}" b="0" c="0" d="0"/>\n'
+
+
+def _lane(lane_id: int, lane_type: str, width: str) -> str:
+    return (
+        f'          <lane id="{lane_id}" type="{lane_type}" level="false">\n'
+        f'            <width sOffset="0" a="{width}" b="0" c="0" d="0"/>\n'
+        "          </lane>\n"
+    )
+
+
+def _section(start: str, left: str = "", right: str = "") -> str:
+    """A lane section with its left lanes, the centre lane and its right lanes."""
+    return (
+        f'      <laneSection s="{start}">\n'
+        + (f"        <left>\n{left}        </left>\n" if left else "")
+        + '        <center><lane id="0" type="none" level="false"/></center>\n'
+        + (f"        <right>\n{right}        </right>\n" if right else "")
+        + "      </laneSection>\n"
+    )
+
+
 # A rail lane 1.5 m wide on one side of the reference line, centred by the lane offset.
-RIGHT_RAIL: Final = """      <laneOffset s="0" a="0.75" b="0" c="0" d="0"/>
-      <laneSection s="0">
-        <center><lane id="0" type="none" level="false"/></center>
-        <right>
-          <lane id="-1" type="rail" level="false">
-            <width sOffset="0" a="1.5" b="0" c="0" d="0"/>
-          </lane>
-        </right>
-      </laneSection>
-"""
-LEFT_RAIL: Final = """      <laneOffset s="0" a="-0.75" b="0" c="0" d="0"/>
-      <laneSection s="0">
-        <left>
-          <lane id="1" type="rail" level="false">
-            <width sOffset="0" a="1.5" b="0" c="0" d="0"/>
-          </lane>
-        </left>
-        <center><lane id="0" type="none" level="false"/></center>
-      </laneSection>
-"""
-BALLAST_RAIL: Final = """      <laneOffset s="0" a="0.75" b="0" c="0" d="0"/>
-      <laneSection s="0">
-        <left>
-          <lane id="1" type="border" level="false">
-            <width sOffset="0" a="1" b="0" c="0" d="0"/>
-          </lane>
-        </left>
-        <center><lane id="0" type="none" level="false"/></center>
-        <right>
-          <lane id="-1" type="rail" level="false">
-            <width sOffset="0" a="1.5" b="0" c="0" d="0"/>
-          </lane>
-          <lane id="-2" type="border" level="false">
-            <width sOffset="0" a="1" b="0" c="0" d="0"/>
-          </lane>
-        </right>
-      </laneSection>
-"""
+RIGHT_RAIL: Final = _offset("0", "0.75") + _section("0", right=_lane(-1, "rail", "1.5"))
+LEFT_RAIL: Final = _offset("0", "-0.75") + _section("0", left=_lane(1, "rail", "1.5"))
+BALLAST_RAIL: Final = _offset("0", "0.75") + _section(
+    "0",
+    left=_lane(1, "border", "1"),
+    right=_lane(-1, "rail", "1.5") + _lane(-2, "border", "1"),
+)
 
 
 def _two_sections(length: float) -> str:
     """A right rail lane in two lane sections, each with its own offset entry."""
-    half = _number(length / 2)
-    return "".join(
-        f"""      <laneOffset s="{start}" a="0.75" b="0" c="0" d="0"/>
-"""
-        for start in ("0", half)
-    ) + "".join(
-        f"""      <laneSection s="{start}">
-        <center><lane id="0" type="none" level="false"/></center>
-        <right>
-          <lane id="-1" type="rail" level="false">
-            <width sOffset="0" a="1.5" b="0" c="0" d="0"/>
-          </lane>
-        </right>
-      </laneSection>
-"""
-        for start in ("0", half)
+    starts = ("0", _number(length / 2))
+    rail = _lane(-1, "rail", "1.5")
+    return "".join(_offset(s, "0.75") for s in starts) + "".join(
+        _section(s, right=rail) for s in starts
     )
 
 
