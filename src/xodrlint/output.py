@@ -18,6 +18,18 @@ def error_line(message: str) -> None:
     print(f"xodrlint: {message}", file=sys.stderr)
 
 
+def release_stdout() -> None:
+    """Let standard output go when its reader stopped early (``check | head``): what is
+    still buffered, and anything written later, goes to the null device, so neither the
+    rest of the run nor the exit's flush meets the closed pipe again."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError, AttributeError):  # no descriptor (an embedding's stream)
+        sys.stdout = Path(os.devnull).open("w", encoding="utf-8")  # noqa: SIM115 (for the run)
+
+
 def write_output(output: str | None, render: Render) -> None:
     """Render to stdout, or to ``output`` whole: a temp file beside it, then a rename.
 

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 import sys
-from collections import Counter
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Final, NamedTuple, TextIO
@@ -22,6 +21,16 @@ from xodrlint.api import (
     too_large,
 )
 from xodrlint.baseline import BaselineError
+from xodrlint.cli.reports import (
+    ExtraReport,
+    OutputRefused,
+    check_statistics_format,
+    check_targets,
+    parse_reports,
+    report_renderer,
+    statistics_renderer,
+    write_reports,
+)
 from xodrlint.config import (
     COMMAND_LINE,
     ConfigError,
@@ -41,11 +50,10 @@ from xodrlint.engine import (
     resolve_rule_options,
     select_rules,
 )
-from xodrlint.files import overwrites
 from xodrlint.findings import NO_ENTRIES, FileReport, RunResult
 from xodrlint.formatters import Formatter, available, get_formatter
 from xodrlint.messages import one_line
-from xodrlint.output import STDOUT, error_line, write_output
+from xodrlint.output import error_line, write_output
 from xodrlint.registry import Registry
 from xodrlint.suppress import UNUSED_META
 from xodrlint.validation.sets import SCHEMA_PATH_ENV, Origin, SchemaLoadError
@@ -87,6 +95,8 @@ class CheckRequest(NamedTuple):
     warn_unused_suppressions: bool | None = None
     show_suppressed: bool = False
     statistics: bool = False
+    reports: tuple[str, ...] = ()
+    """``--report FORMAT=PATH`` entries: more reports of the same run, each to a file."""
     max_file_size: str | None = None
     rule_timeout: float | None = None
 
@@ -156,17 +166,27 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
     try:
         settings, linter = prepare_linter(registry, request)
         formatter = formatter or _formatter(settings.output_format, request)
+        extra = [
+            (report, _formatter(report.format, request, report.flag))
+            for report in parse_reports(request.reports)
+        ]
+        if request.statistics:
+            check_statistics_format(settings.output_format)
         inputs = _inputs(request, settings)
-        _check_output_target("--output", request.output, inputs)
-        _check_output_spares("--output", request.output, request.baseline, settings.config_file)
-        if request.write_baseline is not None:
-            _check_output_target("--write-baseline", str(request.write_baseline), inputs)
+        _check_targets(request, settings, inputs, extra)
         recorded = None
         if request.baseline is not None:
             from xodrlint.baseline import load_baseline
 
             recorded = load_baseline(request.baseline)
-    except (ConfigError, SelectorError, OptionError, UsageError, BaselineError) as error:
+    except (
+        ConfigError,
+        SelectorError,
+        OptionError,
+        UsageError,
+        BaselineError,
+        OutputRefused,
+    ) as error:
         error_line(str(error))
         return 2
     try:
@@ -195,19 +215,14 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
         root=root,
         selected=tuple(rule.code for rule in linter.rules),
     )
-    try:
-        if request.statistics:
-            write_output(request.output, lambda stream: _statistics(result, stream))
-        else:
-            write_output(request.output, lambda stream: formatter.render(result, stream))
-    except OSError as error:
-        # a reader that stops early (| head) closes the pipe: say so, not "--output None"
-        where = (
-            "standard output"
-            if request.output in (None, STDOUT)
-            else "--output " + str(request.output)
-        )
-        error_line(f"{where}: cannot write: {os_reason(error)}")
+    main = (
+        statistics_renderer(settings.output_format, result)
+        if request.statistics
+        else report_renderer(formatter, result)
+    )
+    written = [("--output " + str(request.output), request.output, main)]
+    written += [(report.flag, report.path, report_renderer(f, result)) for report, f in extra]
+    if not write_reports(written):
         return 2
     return exit_code(reports, settings.fail_on, request.exit_zero)
 
@@ -257,12 +272,13 @@ def _linter(registry: Registry, settings: Settings, request: CheckRequest) -> Li
 _LAST_LINTER: list[Linter] = []
 
 
-def _formatter(name: str, request: CheckRequest) -> Formatter:
+def _formatter(name: str, request: CheckRequest, flag: str | None = None) -> Formatter:
     try:
         return get_formatter(name, show_source=request.show_source, quiet=request.quiet)
     except KeyError:
+        where = f"{flag}: " if flag else ""
         raise UsageError(
-            f"unknown output format '{name}' (choose from {', '.join(available())})"
+            f"{where}unknown output format '{name}' (choose from {', '.join(available())})"
         ) from None
 
 
@@ -354,28 +370,25 @@ def _per_file_ignores(settings: Settings, path: Path) -> tuple[tuple[str, str], 
     )
 
 
-def _check_output_spares(
-    flag: str, output: str | None, baseline: Path | None, config: Path | None
+def _check_targets(
+    request: CheckRequest,
+    settings: Settings,
+    inputs: list[Input],
+    extra: list[tuple[ExtraReport, Formatter]],
 ) -> None:
-    """Refuse a report written over the baseline or the config file this run reads."""
-    if output in (None, STDOUT):
-        return
-    for read, what in ((baseline, "the baseline"), (config, "the config file")):
-        if read is not None and overwrites(Path(output), [read]):
-            raise UsageError(f"{flag} {output}: is {what} this run reads; refusing to overwrite it")
-
-
-def _check_output_target(flag: str, output: str | None, inputs: list[Input]) -> None:
-    """Refuse an output that cannot take what is written there, before any linting."""
-    if output in (None, STDOUT):
-        return
-    target = Path(output)
-    if overwrites(target, (item.path for item in inputs if item.path is not None)):
-        raise UsageError(f"{flag} {output}: is one of the inputs; refusing to overwrite it")
-    if target.is_dir():
-        raise UsageError(f"{flag} {output}: is a folder")
-    if not target.parent.is_dir():
-        raise UsageError(f"{flag} {output}: its folder {target.parent} does not exist")
+    """Refuse, before any linting, an output that would overwrite what the run reads or
+    another output."""
+    targets: list[tuple[str, str | None]]
+    if request.write_baseline is not None:
+        targets = [(f"--write-baseline {request.write_baseline}", str(request.write_baseline))]
+    else:
+        targets = [(f"--output {request.output}", request.output)]
+        targets += [(report.flag, report.path) for report, _ in extra]
+    check_targets(
+        targets,
+        (item.path for item in inputs if item.path is not None),
+        {"the baseline": request.baseline, "the config file": settings.config_file},
+    )
 
 
 def run_notes(reports: list[FileReport]) -> tuple[str, ...]:
@@ -423,13 +436,3 @@ def _write_baseline(path: Path, reports: list[FileReport], root: str) -> int:
 def _dump(document: object, stream: TextIO) -> None:
     json.dump(document, stream, indent=2, ensure_ascii=False)
     stream.write("\n")
-
-
-def _statistics(result: RunResult, stream: TextIO) -> None:
-    """Counts per rule, most frequent first (``--statistics``)."""
-    counts = Counter(finding.code for finding in result.findings)
-    names = {meta.code: meta for meta in result.rules}
-    for code, count in sorted(counts.items(), key=lambda item: (-item[1], item[0])):
-        meta = names.get(code)
-        severity = f"[{meta.severity}]" if meta else ""
-        stream.write(f"{count:>6}  {code}  {severity:<9} {meta.name if meta else ''}\n")

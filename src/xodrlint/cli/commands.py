@@ -93,6 +93,16 @@ def check(
             rich_help_panel=_OUTPUT,
         ),
     ] = None,
+    report: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--report",
+            metavar="FORMAT=FILE",
+            help="Also write a report in FORMAT to FILE (repeatable), e.g. "
+            "--report gitlab=gl-code-quality.json --report junit=junit.xml.",
+            rich_help_panel=_OUTPUT,
+        ),
+    ] = None,
     select: Annotated[
         list[str] | None,
         typer.Option(
@@ -146,7 +156,8 @@ def check(
         bool,
         typer.Option(
             "--statistics",
-            help="Print counts per rule instead of findings.",
+            help="Print counts per rule instead of findings: a table (text, concise) "
+            "or a JSON document (json); --report files still hold the findings.",
             rich_help_panel=_OUTPUT,
         ),
     ] = False,
@@ -275,6 +286,7 @@ def check(
             warn_unused_suppressions=warn_unused_suppressions,
             show_suppressed=show_suppressed,
             statistics=statistics,
+            reports=tuple(report or ()),
             max_file_size=max_file_size,
             rule_timeout=rule_timeout,
         )

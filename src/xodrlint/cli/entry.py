@@ -28,7 +28,9 @@ def _leave(code: object) -> NoReturn:
     for stream in (sys.stdout, sys.stderr):
         try:
             stream.flush()
-        except (OSError, ValueError):  # a closed pipe: nothing more can be said there
+        except BrokenPipeError:  # its reader stopped early (| head): no error of the run
+            pass
+        except (OSError, ValueError):  # nothing more can be said there
             status = status or 1
     os._exit(status)
 

@@ -43,14 +43,19 @@ def as_document(result: RunResult, *, findings: bool = True) -> dict[str, object
         "tool": {"name": "xodrlint", "version": result.tool_version},
         "files": [_file(report) for report in result.reports],
         "findings": [finding.as_dict() for finding in every] if findings else [],
-        "summary": {
-            "files": len(result.reports),
-            "files_with_findings": sum(1 for r in result.reports if r.findings),
-            "unreadable_files": sum(1 for r in result.reports if r.error),
-            "findings": len(every),
-            "by_severity": result.count_by_severity(),
-        },
+        "summary": summary(result),
         "notes": list(result.notes),
+    }
+
+
+def summary(result: RunResult) -> dict[str, object]:
+    """The counts of a run (the report's ``summary``; ``--statistics`` gives it too)."""
+    return {
+        "files": len(result.reports),
+        "files_with_findings": sum(1 for r in result.reports if r.findings),
+        "unreadable_files": sum(1 for r in result.reports if r.error),
+        "findings": len(result.findings),
+        "by_severity": result.count_by_severity(),
     }
 
 

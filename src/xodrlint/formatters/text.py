@@ -6,6 +6,7 @@ like ``[@id='3']`` survive, and lines are never wrapped when the output is piped
 
 from __future__ import annotations
 
+import errno
 from typing import Final, TextIO
 
 from rich.console import Console
@@ -21,13 +22,21 @@ STYLE: Final = {
 }
 
 
+class _Console(Console):
+    def on_broken_pipe(self) -> None:
+        # rich would point standard output at the null device and exit 1, whatever the
+        # run found, and also when the pipe was a FIFO named by -o: the caller decides
+        self.quiet = True
+        raise BrokenPipeError(errno.EPIPE, "broken pipe")
+
+
 class TextFormatter:
     def __init__(self, *, show_source: bool = False, quiet: bool = False) -> None:
         self.show_source = show_source
         self.quiet = quiet
 
     def render(self, result: RunResult, stream: TextIO) -> None:
-        console = Console(file=stream, soft_wrap=True, highlight=False, emoji=False)
+        console = _Console(file=stream, soft_wrap=True, highlight=False, emoji=False)
         for report in result.reports:
             if report.findings:
                 self._file(console, report)
