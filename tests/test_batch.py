@@ -111,13 +111,15 @@ class _Terminal:
         pass
 
 
-def test_progress_bar_only_on_a_terminal_and_for_many_files(
+def test_progress_bar_only_on_a_terminal_and_for_a_batch(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     import sys
 
     from xodrlint.workers.batch import MIN_FILES_FOR_PROGRESS, _Progress
 
+    monkeypatch.delenv("CI", raising=False)
+    monkeypatch.delenv("TERM", raising=False)
     assert _Progress(MIN_FILES_FOR_PROGRESS, enabled=True)._bar is None  # stderr is a pipe
     monkeypatch.setattr(sys, "stderr", _Terminal())
     assert _Progress(MIN_FILES_FOR_PROGRESS, enabled=True)._bar is not None

@@ -12,6 +12,7 @@ import contextlib
 import gc
 import math
 import re
+import time
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Final, NamedTuple
@@ -216,13 +217,18 @@ class Linter:
         self, path: Path, display: str | None = None, external: ExternalIgnores = ()
     ) -> FileReport:
         shown = display or path.as_posix()
+        started = time.perf_counter()
         try:
             data = read_regular_file(path)
         except NotRegularFile as refused:
             return FileReport(shown, error=f"{shown}: {refused}")
         except OSError as error:
             return FileReport(shown, error=_os_error(error, shown))
-        return self.lint_bytes(data, shown, external)
+        read = time.perf_counter() - started
+        report = self.lint_bytes(data, shown, external)
+        timings = {"read": read, **report.timings}
+        timings["total"] = timings.get("total", 0.0) + read
+        return report._replace(timings=timings)
 
     @property
     def last_document(self) -> LastDocument | None:
@@ -243,7 +249,9 @@ class Linter:
                 self._validators.compile_soon(
                     Version(int(declared["major"]), int(declared["minor"]))
                 )
+        clock = _StageClock()
         doc = load_bytes(data, path)
+        clock.lap("parse")
         self._last_document = None
         problems: dict[str, list[Hit]] = {code: list(hits) for code, hits in doc.problems.items()}
         schema_label, builtin = None, False
@@ -253,11 +261,17 @@ class Linter:
         pending = self._validators.start(doc) if not fatal and SCHEMA_RULE in self._codes else None
         stamped: list[_Stamped] = []
         crashes: list[str] = []
+        validation_started = time.perf_counter()
         network = build_network(None if fatal else doc.root)
+        clock.lap("model")
         if self._keep_last_document:
             self._last_document = LastDocument(doc, None if fatal else network)
         self._run(self._model_rules, network, doc, stamped, crashes)
+        clock.lap("rules")
         check = pending.result() if pending is not None else None
+        if check is not None:  # its own time, or (a forked child's) until its result
+            clock.add("validation", check.seconds or time.perf_counter() - validation_started)
+        clock.lap("waiting for validation")
         schema_note = None
         if check is not None:
             problems[SCHEMA_RULE] = list(check.hits)
@@ -283,6 +297,7 @@ class Linter:
             internal_errors=tuple(crashes),
             suppressed=tuple(withheld) if self.options.keep_suppressed else (),
             schema_note=schema_note,
+            timings=clock.stop(),
         )
 
     def _run(
@@ -388,6 +403,26 @@ class _Stamped(NamedTuple):
 
 
 ExternalIgnores = Sequence[tuple[str, str]]
+
+
+class _StageClock:
+    """Seconds per stage of one lint, for ``--verbose``: a few clock reads a file."""
+
+    def __init__(self) -> None:
+        self._started = self._last = time.perf_counter()
+        self._laps: dict[str, float] = {}
+
+    def lap(self, stage: str) -> None:
+        now = time.perf_counter()
+        self._laps[stage] = now - self._last
+        self._last = now
+
+    def add(self, stage: str, seconds: float) -> None:
+        self._laps[stage] = seconds
+
+    def stop(self) -> dict[str, float]:
+        self._laps["total"] = time.perf_counter() - self._started
+        return self._laps
 
 
 def _one_defect_one_finding(stamped: list[_Stamped]) -> list[_Stamped]:

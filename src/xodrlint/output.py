@@ -11,7 +11,31 @@ from pathlib import Path
 from typing import Final, TextIO
 
 STDOUT: Final = "-"
+#: ``--color``: ``auto`` follows ``NO_COLOR``, ``FORCE_COLOR`` and whether the stream is
+#: a terminal; the others decide alone.
+COLOR_CHOICES: Final = ("auto", "always", "never")
 Render = Callable[[TextIO], None]
+
+
+def color_wanted(choice: str | None, stream: TextIO) -> bool:
+    """Whether text written to ``stream`` carries styles (colour, bold, underline), as in
+    ruff: ``--color always|never`` decides; otherwise a non-empty ``NO_COLOR`` means
+    plain text (https://no-color.org), a non-empty ``FORCE_COLOR`` means styles, and
+    else a terminal (not a dumb one) gets them."""
+    if choice in ("always", "never"):
+        return choice == "always"
+    if os.environ.get("NO_COLOR"):
+        return False
+    if os.environ.get("FORCE_COLOR"):
+        return True
+    return is_terminal(stream) and os.environ.get("TERM") != "dumb"
+
+
+def is_terminal(stream: TextIO) -> bool:
+    try:
+        return stream.isatty()
+    except (AttributeError, ValueError):  # a closed or bare stream
+        return False
 
 
 def error_line(message: str) -> None:

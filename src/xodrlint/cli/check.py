@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import sys
+import time
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Final, NamedTuple, TextIO
@@ -97,6 +98,9 @@ class CheckRequest(NamedTuple):
     statistics: bool = False
     reports: tuple[str, ...] = ()
     """``--report FORMAT=PATH`` entries: more reports of the same run, each to a file."""
+    verbose: bool = False
+    color: str | None = None
+    """``--color``: one of :data:`~xodrlint.output.COLOR_CHOICES`; ``None`` is "auto"."""
     max_file_size: str | None = None
     rule_timeout: float | None = None
 
@@ -189,11 +193,22 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
     ) as error:
         error_line(str(error))
         return 2
+    started = time.perf_counter()
+    if request.verbose:
+        from xodrlint.cli.verbose import describe_run
+
+        describe_run(settings, (rule.code for rule in linter.rules), len(inputs), _jobs(request))
     try:
         reports = _lint(linter, settings, inputs, request)
     except SchemaLoadError as error:
         error_line(str(error))
         return 2
+    if request.verbose:
+        from xodrlint.cli.verbose import describe_end, describe_file
+
+        for report in reports:
+            describe_file(report)
+        describe_end(len(reports), time.perf_counter() - started)
     root = str(Path.cwd())
     for report in reports:
         if report.error:
@@ -274,7 +289,9 @@ _LAST_LINTER: list[Linter] = []
 
 def _formatter(name: str, request: CheckRequest, flag: str | None = None) -> Formatter:
     try:
-        return get_formatter(name, show_source=request.show_source, quiet=request.quiet)
+        return get_formatter(
+            name, show_source=request.show_source, quiet=request.quiet, color=request.color
+        )
     except KeyError:
         where = f"{flag}: " if flag else ""
         raise UsageError(
@@ -299,8 +316,7 @@ def _lint(
         for item in inputs
         if item.path is not None and item.error is None
     ]
-    jobs = request.jobs if request.jobs is not None else default_jobs()
-    linted = iter(lint_tasks(linter, tasks, jobs, progress=True))
+    linted = iter(lint_tasks(linter, tasks, _jobs(request), progress=True))
     reports = []
     for item in inputs:
         if item.error is not None:
@@ -315,6 +331,10 @@ def _lint(
         else:
             reports.append(next(linted))
     return reports
+
+
+def _jobs(request: CheckRequest) -> int:
+    return request.jobs if request.jobs is not None else default_jobs()
 
 
 def _inputs(request: CheckRequest, settings: Settings) -> list[Input]:
@@ -379,16 +399,14 @@ def _check_targets(
     """Refuse, before any linting, an output that would overwrite what the run reads or
     another output."""
     targets: list[tuple[str, str | None]]
-    if request.write_baseline is not None:
+    read: dict[str, Path | None] = {"the config file": settings.config_file}
+    if request.write_baseline is not None:  # it may replace the baseline it reads
         targets = [(f"--write-baseline {request.write_baseline}", str(request.write_baseline))]
     else:
         targets = [(f"--output {request.output}", request.output)]
         targets += [(report.flag, report.path) for report, _ in extra]
-    check_targets(
-        targets,
-        (item.path for item in inputs if item.path is not None),
-        {"the baseline": request.baseline, "the config file": settings.config_file},
-    )
+        read["the baseline"] = request.baseline
+    check_targets(targets, (item.path for item in inputs if item.path is not None), read)
 
 
 def run_notes(reports: list[FileReport]) -> tuple[str, ...]:

@@ -27,6 +27,18 @@ schemas_app = typer.Typer(
 app.add_typer(schemas_app, name="schemas")
 
 
+class Color(StrEnum):
+    auto = "auto"
+    always = "always"
+    never = "never"
+
+
+_COLOR_HELP = (
+    "Style the text: auto (on a terminal, unless NO_COLOR is set; FORCE_COLOR forces "
+    "it), always or never."
+)
+
+
 class FailOn(StrEnum):
     error = "error"
     warning = "warning"
@@ -146,12 +158,26 @@ def check(
             "--quiet", "-q", help="Print findings only, no summary.", rich_help_panel=_OUTPUT
         ),
     ] = False,
+    verbose: Annotated[
+        bool,
+        typer.Option(
+            "--verbose",
+            "-v",
+            help="Say on stderr what the run does: its config and rules, then each file's "
+            "declared version, schema and time per stage.",
+            rich_help_panel=_OUTPUT,
+        ),
+    ] = False,
     show_source: Annotated[
         bool,
         typer.Option(
             "--show-source", help="Show the source line of each finding.", rich_help_panel=_OUTPUT
         ),
     ] = False,
+    color: Annotated[
+        Color | None,
+        typer.Option("--color", help=_COLOR_HELP, rich_help_panel=_OUTPUT),
+    ] = None,
     statistics: Annotated[
         bool,
         typer.Option(
@@ -274,6 +300,8 @@ def check(
             exit_zero=exit_zero,
             schema=schema,
             quiet=quiet,
+            verbose=verbose,
+            color=str(color) if color is not None else None,
             show_source=show_source,
             stdin_filename=stdin_filename,
             rule_options=_rule_options(rule_option, rail_min_width, refline_tolerance),
@@ -409,11 +437,14 @@ def rules_command(
 
 
 @app.command()
-def explain(code: Annotated[str, typer.Argument(help="A rule code, name or UID.")]) -> None:
+def explain(
+    code: Annotated[str, typer.Argument(help="A rule code, name or UID.")],
+    color: Annotated[Color | None, typer.Option("--color", help=_COLOR_HELP)] = None,
+) -> None:
     """Show a rule's documentation."""
     from xodrlint.cli.rules import explain_rule
 
-    raise typer.Exit(explain_rule(code))
+    raise typer.Exit(explain_rule(code, str(color) if color is not None else None))
 
 
 @schemas_app.command("list")

@@ -6,6 +6,7 @@ from __future__ import annotations
 import sys
 
 from xodrlint.api import default_registry
+from xodrlint.output import color_wanted, is_terminal
 from xodrlint.output import error_line as _error
 
 
@@ -43,7 +44,9 @@ def print_rules(output_format: str) -> int:
     return 0
 
 
-def explain_rule(token: str) -> int:
+def explain_rule(token: str, color: str | None = None) -> int:
+    """Print a rule's page: drawn from its Markdown on a terminal, styled as ``color``
+    (see :func:`~xodrlint.output.color_wanted`) says; the Markdown itself elsewhere."""
     found = default_registry().find(token)
     if found is None:
         _error(f"no rule '{token}' (see 'xodrlint rules')")
@@ -59,8 +62,9 @@ def explain_rule(token: str) -> int:
         + "\n\n"
     )
     body = meta.doc.split("\n", 1)[1] if "\n" in meta.doc else ""
-    console = Console(highlight=False)
-    if console.is_terminal:
+    if is_terminal(sys.stdout):
+        styled = color_wanted(color, sys.stdout)
+        console = Console(highlight=False, color_system="auto" if styled else None)
         console.print(Markdown(header + meta.summary + "\n" + body))
     else:
         sys.stdout.write(header + meta.summary + "\n" + body + "\n")

@@ -52,8 +52,18 @@ def available() -> list[str]:
     return sorted(names)
 
 
-def get_formatter(name: str, *, show_source: bool = False, quiet: bool = False) -> Formatter:
-    """An instance of the formatter ``name``; ``KeyError`` if there is none."""
+def get_formatter(
+    name: str, *, show_source: bool = False, quiet: bool = False, color: str | None = None
+) -> Formatter:
+    """An instance of the formatter ``name``; ``KeyError`` if there is none.
+
+    Every factory takes ``show_source`` and ``quiet``, a plugin's too; ``color`` (one of
+    ``output.COLOR_CHOICES``, ``None`` for "auto") goes to the text format alone, so
+    plugin factories keep the keywords they were written for.
+    """
+    extra: dict[str, object] = {}
+    if name == "text" and color is not None:
+        extra["color"] = color
     target = BUILTIN.get(name)
     if target is None:
         matches = [p for p in _entry_points() if p.name == name]
@@ -63,5 +73,5 @@ def get_formatter(name: str, *, show_source: bool = False, quiet: bool = False) 
     else:
         module_name, _, attribute = target.partition(":")
         factory = getattr(importlib.import_module(module_name), attribute)
-    formatter: Formatter = factory(show_source=show_source, quiet=quiet)
+    formatter: Formatter = factory(show_source=show_source, quiet=quiet, **extra)
     return formatter

@@ -7,6 +7,7 @@ like ``[@id='3']`` survive, and lines are never wrapped when the output is piped
 from __future__ import annotations
 
 import errno
+import os
 from typing import Final, TextIO
 
 from rich.console import Console
@@ -14,6 +15,7 @@ from rich.text import Text
 
 from xodrlint.findings import FileReport, Finding, RunResult, Severity
 from xodrlint.messages import one_line
+from xodrlint.output import color_wanted, is_terminal
 
 STYLE: Final = {
     Severity.ERROR: "bold red",
@@ -30,13 +32,35 @@ class _Console(Console):
         raise BrokenPipeError(errno.EPIPE, "broken pipe")
 
 
+def styled_console(stream: TextIO, color: str | None) -> Console:
+    """A console on ``stream`` that styles text only where :func:`color_wanted` says so:
+    never a code in a pipe or under ``NO_COLOR``, colour on demand in a CI log."""
+    if not color_wanted(color, stream):
+        system = None  # no style at all: rich's own NO_COLOR keeps bold and underline
+    elif is_terminal(stream) and os.environ.get("TERM") != "dumb":
+        system = "auto"
+    else:
+        system = "standard"  # forced where rich, detecting, would choose none
+    return _Console(
+        file=stream,
+        soft_wrap=True,
+        highlight=False,
+        emoji=False,
+        color_system=system,  # type: ignore[arg-type]  # rich's Literal of the names
+        force_terminal=system is not None,
+    )
+
+
 class TextFormatter:
-    def __init__(self, *, show_source: bool = False, quiet: bool = False) -> None:
+    def __init__(
+        self, *, show_source: bool = False, quiet: bool = False, color: str | None = None
+    ) -> None:
         self.show_source = show_source
         self.quiet = quiet
+        self.color = color  # one of output.COLOR_CHOICES; None is "auto"
 
     def render(self, result: RunResult, stream: TextIO) -> None:
-        console = _Console(file=stream, soft_wrap=True, highlight=False, emoji=False)
+        console = styled_console(stream, self.color)
         for report in result.reports:
             if report.findings:
                 self._file(console, report)
@@ -91,7 +115,8 @@ def _line(finding: Finding) -> Text:
     location = f"{one_line(finding.path)}:{finding.line}"
     if finding.column is not None:
         location += f":{finding.column}"
-    text = Text(location, style="bold")
+    text = Text()
+    text.append(location, style="bold")  # the location alone: the message stays plain
     text.append(": ")
     text.append(finding.code, style=STYLE[finding.severity])
     text.append(f" [{finding.severity}] ", style=STYLE[finding.severity])

@@ -13,6 +13,7 @@ import gc
 import os
 import sys
 import threading
+import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Final, NamedTuple
@@ -27,8 +28,10 @@ if TYPE_CHECKING:
 
 #: Below this many files a pool costs more than it saves.
 MIN_FILES_FOR_WORKERS: Final = 4
-#: A progress bar is worth drawing from this many files on.
-MIN_FILES_FOR_PROGRESS: Final = 20
+#: A progress bar is worth drawing from this many files on,
+MIN_FILES_FOR_PROGRESS: Final = 2
+#: once the batch has run this long (a shorter one would only flicker).
+PROGRESS_AFTER_SECONDS: Final = 1.0
 
 
 class Task(NamedTuple):
@@ -210,17 +213,26 @@ def _size(path: Path) -> int:
         return 0
 
 
-class _Progress:
-    """A rich progress bar on stderr, only when stderr is a terminal and the run is long.
+def progress_wanted() -> bool:
+    """Whether stderr is a person's terminal: never a pipe, a file or a CI job's log
+    (some CI runners give jobs a terminal, and a bar redrawn there fills the log)."""
+    return sys.stderr.isatty() and not os.environ.get("CI") and os.environ.get("TERM", "") != "dumb"
 
-    It is drawn from the first file done on: its refresh thread then starts after the
-    workers are forked (a thread's locks, copied by a fork, could be held forever).
+
+class _Progress:
+    """A rich progress bar on stderr, only on a person's terminal and once the batch has
+    run for :data:`PROGRESS_AFTER_SECONDS`.
+
+    It is drawn from a file done on: its refresh thread then starts after the workers
+    are forked (a thread's locks, copied by a fork, could be held forever).
     """
 
     def __init__(self, total: int, *, enabled: bool) -> None:
         self._bar = None
         self._started = False
-        if enabled and total >= MIN_FILES_FOR_PROGRESS and sys.stderr.isatty():
+        self._created = time.monotonic()
+        self._done = 0
+        if enabled and total >= MIN_FILES_FOR_PROGRESS and progress_wanted():
             from rich.console import Console
             from rich.progress import Progress
 
@@ -235,8 +247,14 @@ class _Progress:
             self._bar.stop()
 
     def advance(self, count: int = 1) -> None:
-        if self._bar is not None:
-            if not self._started:
-                self._bar.start()
-                self._started = True
+        if self._bar is None:
+            return
+        self._done += count
+        if not self._started:
+            if time.monotonic() - self._created < PROGRESS_AFTER_SECONDS:
+                return
+            self._bar.start()
+            self._started = True
+            self._bar.update(self._task, completed=self._done)
+        else:
             self._bar.advance(self._task, count)

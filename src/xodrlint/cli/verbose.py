@@ -1,0 +1,66 @@
+"""``check --verbose``: what the run is doing, on stderr, for a person asking why a run
+is slow or which schema judged a file: the settings it runs with, then each file with
+its declared version, the schema it was validated with and the time of each stage."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+
+from xodrlint.config import Settings
+from xodrlint.findings import FileReport
+from xodrlint.messages import one_line
+from xodrlint.output import error_line
+from xodrlint.workers.batch import MIN_FILES_FOR_WORKERS
+
+#: How stages are named on the line, in the order they run.
+STAGE_LABELS = {
+    "read": "read",
+    "parse": "parse",
+    "model": "model",
+    "rules": "rules",
+    "validation": "validation (beside model and rules)",
+    "waiting for validation": "waiting for validation",
+    "total": "total",
+}
+
+
+def seconds(value: float) -> str:
+    """A duration as people read it: milliseconds below a second."""
+    return f"{value * 1000:.1f} ms" if value < 1 else f"{value:.2f} s"
+
+
+def describe_run(settings: Settings, rules: Iterable[str], files: int, jobs: int) -> None:
+    config = settings.config_file
+    error_line(f"config: {config}" if config is not None else "config: none (defaults)")
+    codes = sorted(rules)
+    error_line(f"rules: {len(codes)} selected ({', '.join(codes)})")
+    pooled = jobs > 1 and files >= MIN_FILES_FOR_WORKERS
+    workers = f"{jobs} worker processes" if pooled else "this process"
+    error_line(f"files: {files}, linted in {workers}")
+
+
+def describe_file(report: FileReport) -> None:
+    """One line for the file: what it declares, what validated it, how long each took."""
+    if report.error:
+        return  # its error line says what happened
+    facts = [
+        f"OpenDRIVE {report.declared_version}" if report.declared_version else "no version",
+        f"schema: {report.schema}" if report.schema else "schema: not validated",
+    ]
+    if report.schema_note:
+        facts.append(report.schema_note)
+    facts.append(_stages(report.timings))
+    error_line(f"{one_line(report.path)}: {'; '.join(facts)}")
+
+
+def _stages(timings: Mapping[str, float]) -> str:
+    shown = [
+        f"{label} {seconds(timings[stage])}"
+        for stage, label in STAGE_LABELS.items()
+        if stage in timings
+    ]
+    return ", ".join(shown) if shown else "no timings"
+
+
+def describe_end(files: int, elapsed: float) -> None:
+    error_line(f"linted {files} file{'' if files == 1 else 's'} in {seconds(elapsed)}")
