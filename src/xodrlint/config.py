@@ -26,6 +26,8 @@ COMMAND_LINE: Final = "command line"
 DEFAULT_MAX_FILE_SIZE: Final = 2 * 1024**3
 #: Seconds a rule may run on one file unless ``rule-timeout`` says otherwise.
 DEFAULT_RULE_TIMEOUT: Final = 60.0
+#: GitHub code scanning rejects a SARIF run with more results than this.
+DEFAULT_SARIF_MAX_RESULTS: Final = 25_000
 
 
 class ConfigError(ValueError):
@@ -94,6 +96,8 @@ class Settings:
     fail_on: Severity = Severity.WARNING
     schema: Path | None = None
     output_format: str = "text"
+    sarif_max_results: int = DEFAULT_SARIF_MAX_RESULTS
+    """At most this many results in a SARIF log, the most important; 0: no limit."""
     exclude: tuple[str, ...] = ()
     rule_options: Mapping[str, float] = field(default_factory=dict)
     warn_unused_suppressions: bool = False
@@ -126,6 +130,7 @@ class Settings:
             ("fail-on", str(self.fail_on), self.source_of("fail-on")),
             ("schema", str(self.schema) if self.schema else None, self.source_of("schema")),
             ("output-format", self.output_format, self.source_of("output-format")),
+            ("sarif-max-results", self.sarif_max_results, self.source_of("sarif-max-results")),
             ("exclude", list(self.exclude), self.source_of("exclude")),
             (
                 "warn-unused-suppressions",
@@ -176,6 +181,13 @@ def _number(value: object) -> float:
     if isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value):
         return float(value)
     raise TypeError("a finite number")
+
+
+def _count(value: object) -> int:
+    """A whole number, 0 or more (a limit, where 0 means none)."""
+    if isinstance(value, int) and not isinstance(value, bool) and value >= 0:
+        return value
+    raise TypeError("a whole number, 0 or more (0: no limit)")
 
 
 def seconds(value: object) -> float:
@@ -235,6 +247,7 @@ _READERS: Final[Mapping[str, _Reader]] = {
     "fail-on": _severity,
     "schema": _text,
     "output-format": _text,
+    "sarif-max-results": _count,
     "exclude": _strings,
     "warn-unused-suppressions": _boolean,
     "max-file-size": parse_size,
@@ -277,6 +290,7 @@ def settings_from(
         fail_on=Severity(_get(values, "fail-on", Severity.WARNING)),
         schema=Path(schema) if isinstance(schema, str | Path) else None,
         output_format=str(_get(values, "output-format", "text")),
+        sarif_max_results=int(_get(values, "sarif-max-results", DEFAULT_SARIF_MAX_RESULTS)),
         exclude=tuple(_get(values, "exclude", ())),
         rule_options={name: float(values[name]) for name in options if name in values},  # type: ignore[arg-type]
         warn_unused_suppressions=bool(values.get("warn-unused-suppressions", False)),

@@ -52,7 +52,7 @@ from xodrlint.engine import (
     select_rules,
 )
 from xodrlint.findings import NO_ENTRIES, FileReport, RunResult
-from xodrlint.formatters import Formatter, available, get_formatter
+from xodrlint.formatters import Formatter, available, get_formatter, warnings_of
 from xodrlint.messages import one_line
 from xodrlint.output import error_line, write_output
 from xodrlint.registry import Registry
@@ -95,6 +95,7 @@ class CheckRequest(NamedTuple):
     write_baseline: Path | None = None
     warn_unused_suppressions: bool | None = None
     show_suppressed: bool = False
+    sarif_max_results: int | None = None
     statistics: bool = False
     reports: tuple[str, ...] = ()
     """``--report FORMAT=PATH`` entries: more reports of the same run, each to a file."""
@@ -145,6 +146,7 @@ def _overrides(request: CheckRequest) -> dict[str, object]:
         "fail-on": request.fail_on,
         "schema": request.schema,
         "output-format": request.output_format,
+        "sarif-max-results": request.sarif_max_results,
         "exclude": request.exclude,
         "warn-unused-suppressions": request.warn_unused_suppressions,
         "max-file-size": _max_file_size(request.max_file_size),
@@ -169,9 +171,9 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
         error_line(f"warning: {warning}")
     try:
         settings, linter = prepare_linter(registry, request)
-        formatter = formatter or _formatter(settings.output_format, request)
+        formatter = formatter or _formatter(settings.output_format, request, settings)
         extra = [
-            (report, _formatter(report.format, request, report.flag))
+            (report, _formatter(report.format, request, settings, report.flag))
             for report in parse_reports(request.reports)
         ]
         if request.statistics:
@@ -239,7 +241,18 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
     written += [(report.flag, report.path, report_renderer(f, result)) for report, f in extra]
     if not write_reports(written):
         return 2
+    _left_out(formatter, extra)
     return exit_code(reports, settings.fail_on, request.exit_zero)
+
+
+def _left_out(formatter: Formatter, extra: list[tuple[ExtraReport, Formatter]]) -> None:
+    """Say on stderr what each report written left out (SARIF's result limit); a line
+    about a ``--report`` file names it."""
+    for warning in warnings_of(formatter):
+        error_line(f"warning: {warning}")
+    for report, other in extra:
+        for warning in warnings_of(other):
+            error_line(f"warning: {report.flag}: {warning}")
 
 
 def prepare_linter(registry: Registry, request: CheckRequest) -> tuple[Settings, Linter]:
@@ -287,10 +300,16 @@ def _linter(registry: Registry, settings: Settings, request: CheckRequest) -> Li
 _LAST_LINTER: list[Linter] = []
 
 
-def _formatter(name: str, request: CheckRequest, flag: str | None = None) -> Formatter:
+def _formatter(
+    name: str, request: CheckRequest, settings: Settings, flag: str | None = None
+) -> Formatter:
     try:
         return get_formatter(
-            name, show_source=request.show_source, quiet=request.quiet, color=request.color
+            name,
+            show_source=request.show_source,
+            quiet=request.quiet,
+            color=request.color,
+            sarif_max_results=settings.sarif_max_results,
         )
     except KeyError:
         where = f"{flag}: " if flag else ""

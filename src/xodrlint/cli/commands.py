@@ -245,6 +245,16 @@ def check(
             rich_help_panel=_OUTPUT,
         ),
     ] = False,
+    sarif_max_results: Annotated[
+        int | None,
+        typer.Option(
+            min=0,
+            metavar="N",
+            help="At most this many SARIF results, the most important: errors first "
+            "(default 25000, the most GitHub code scanning accepts; 0: no limit).",
+            rich_help_panel=_OUTPUT,
+        ),
+    ] = None,
     max_file_size: Annotated[
         str | None,
         typer.Option(
@@ -313,6 +323,7 @@ def check(
             write_baseline=write_baseline,
             warn_unused_suppressions=warn_unused_suppressions,
             show_suppressed=show_suppressed,
+            sarif_max_results=sarif_max_results,
             statistics=statistics,
             reports=tuple(report or ()),
             max_file_size=max_file_size,

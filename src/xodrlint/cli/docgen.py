@@ -105,7 +105,17 @@ FORMAT_NOTES: Final = {
     "[json-output.schema.json](json-output.schema.json).",
     "sarif": "SARIF 2.1.0 for GitHub code scanning. Shown here: the results and the "
     "invocation; the real file also describes every rule in `tool.driver.rules` (help "
-    "text from the rule's page, UID, aliases, tags).",
+    "text from the rule's page, UID, aliases, tags).\n\n"
+    "GitHub rejects a run of more than 25,000 results, so a log holds at most "
+    "`--sarif-max-results` (or `sarif-max-results` in the config; default 25000, 0 for no "
+    "limit), the most important ones: errors, then warnings, then notes, each by path and "
+    "line. Suppressed results (`--show-suppressed`) count after every unsuppressed one: a "
+    "dismissed alert matters less than any open one. The kept results stay in the usual "
+    "order, with the fingerprints they have without a limit. When results were left out, a "
+    "warning says how many, on stderr and in the log (a `warning` in "
+    "`invocations[0].toolExecutionNotifications`, its `properties` giving `results`, "
+    "`kept` and `leftOut`). A result's `relatedLocations` are places in the file, not other "
+    "results, so none points at a result left out.",
     "github": "GitHub Actions workflow commands: annotations on the pull request.",
     "gitlab": "GitLab Code Quality: the merge request widget and diff annotations. A file "
     "that could not be read is an issue too (`xodrlint:unreadable`, severity `blocker`, "

@@ -1,7 +1,9 @@
 """Stage 6, report: formatters turn a :class:`~xodrlint.findings.RunResult` into output.
 
 Each formatter is a class with a ``render(result, stream)`` method, looked up by name
-here or under the ``xodrlint.formatters`` entry points (the way a plugin adds one).
+here or under the ``xodrlint.formatters`` entry points (the way a plugin adds one). One
+that leaves something out of its report says so in a ``warnings`` attribute
+(:func:`warnings_of`).
 Formatters see findings and rule metadata only, never rules or the engine.
 """
 
@@ -53,17 +55,26 @@ def available() -> list[str]:
 
 
 def get_formatter(
-    name: str, *, show_source: bool = False, quiet: bool = False, color: str | None = None
+    name: str,
+    *,
+    show_source: bool = False,
+    quiet: bool = False,
+    color: str | None = None,
+    sarif_max_results: int | None = None,
 ) -> Formatter:
     """An instance of the formatter ``name``; ``KeyError`` if there is none.
 
-    Every factory takes ``show_source`` and ``quiet``, a plugin's too; ``color`` (one of
-    ``output.COLOR_CHOICES``, ``None`` for "auto") goes to the text format alone, so
-    plugin factories keep the keywords they were written for.
+    Every factory takes ``show_source`` and ``quiet``, a plugin's too. An option of one
+    built-in format goes to that format's factory alone, so plugin factories keep the
+    keywords they were written for: ``color`` (one of ``output.COLOR_CHOICES``, ``None``
+    for "auto") to the text format, ``sarif_max_results`` (at most this many SARIF
+    results, 0 for no limit, ``None`` for the format's default) to the SARIF one.
     """
     extra: dict[str, object] = {}
     if name == "text" and color is not None:
         extra["color"] = color
+    if name == "sarif" and sarif_max_results is not None:
+        extra["max_results"] = sarif_max_results
     target = BUILTIN.get(name)
     if target is None:
         matches = [p for p in _entry_points() if p.name == name]
@@ -75,3 +86,16 @@ def get_formatter(
         factory = getattr(importlib.import_module(module_name), attribute)
     formatter: Formatter = factory(show_source=show_source, quiet=quiet, **extra)
     return formatter
+
+
+def warnings_of(formatter: Formatter) -> tuple[str, ...]:
+    """What ``formatter`` said its last render left out of the report, one line each.
+
+    A formatter may set a ``warnings`` tuple of strings (the SARIF one does, when it
+    keeps only the most important results); the command prints each on stderr, whether
+    the report went to standard output or to a file. A formatter without one says nothing.
+    """
+    found = getattr(formatter, "warnings", ())
+    if not isinstance(found, tuple | list):
+        return ()
+    return tuple(line for line in found if isinstance(line, str))

@@ -19,6 +19,19 @@
   and so is each file that a schema given for every version validated although the file
   declares another version.
 - Which schema validated each file is in the run's ``properties.schemas``.
+- GitHub rejects a run of more than 25,000 results. A log that would hold more than
+  ``max_results`` (GitHub's 25,000 unless ``--sarif-max-results`` or the config's
+  ``sarif-max-results`` says otherwise; 0 for no limit) keeps the most important:
+  unsuppressed results before suppressed ones (a suppressed result is one a reader has
+  already dismissed, so any open one matters more), within each errors, then warnings,
+  then notes, within a level by path and line, then in the usual finding order. The kept
+  results stay in the usual order. A warning-level ``toolExecutionNotifications`` entry
+  says how many were left out (its ``properties`` give the counts), and so does
+  :attr:`SarifFormatter.warnings`, which the command prints on stderr. Fingerprints are
+  those of the whole run, so a kept result's alert is the same with or without the
+  limit. Each result carries its own ``relatedLocations`` (elements of the file, never
+  other results), so leaving a result out leaves nothing pointing at it; a rule is
+  described for a result of a rule outside the table only when that result is kept.
 
 The output holds no timestamps: the same input gives the same bytes.
 """
@@ -28,11 +41,12 @@ from __future__ import annotations
 import json
 import os
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, Final, TextIO
 from urllib.parse import quote
 
+from xodrlint.config import DEFAULT_SARIF_MAX_RESULTS
 from xodrlint.findings import Finding, RuleMeta, RunResult, Severity, Suppressed, relative_path
 
 from ._common import MALFORMED, rules_by_code, run_fingerprints
@@ -66,16 +80,31 @@ JsonObject = dict[str, Any]
 
 
 class SarifFormatter:
-    def __init__(self, *, show_source: bool = False, quiet: bool = False) -> None:
-        del show_source, quiet  # the log is always complete
+    def __init__(
+        self,
+        *,
+        show_source: bool = False,
+        quiet: bool = False,
+        max_results: int = DEFAULT_SARIF_MAX_RESULTS,
+    ) -> None:
+        del show_source, quiet  # the log is complete up to ``max_results``
+        if max_results < 0:
+            raise ValueError(f"max_results must be 0 (no limit) or more, got {max_results}")
+        self.max_results = max_results
+        self.warnings: tuple[str, ...] = ()
+        """What the last render left out, one line each (the command prints them)."""
 
     def render(self, result: RunResult, stream: TextIO) -> None:
-        json.dump(as_sarif(result), stream, indent=2, ensure_ascii=False)
+        log = as_sarif(result, max_results=self.max_results)
+        note = limit_note(result_count(result), self.max_results)
+        self.warnings = (note,) if note else ()
+        json.dump(log, stream, indent=2, ensure_ascii=False)
         stream.write("\n")
 
 
-def as_sarif(result: RunResult) -> JsonObject:
-    """The SARIF log of ``result`` as a JSON-ready dict."""
+def as_sarif(result: RunResult, *, max_results: int = 0) -> JsonObject:
+    """The SARIF log of ``result`` as a JSON-ready dict, with at most ``max_results``
+    results (0: all of them)."""
     rules = [rule_descriptor(meta) for meta in result.rules]
     index = {meta.code: i for i, meta in enumerate(result.rules)}
 
@@ -89,10 +118,23 @@ def as_sarif(result: RunResult) -> JsonObject:
     prints = run_fingerprints(result, (item.finding for item in suppressed))
     entries: list[tuple[Finding, Suppressed | None]] = [(f, None) for f in result.findings]
     entries += [(item.finding, item) for item in suppressed]
+    kept = most_important(entries, max_results)
     results = [
-        _result(finding, rule_index(finding.code), fingerprint, item, result.root)
-        for (finding, item), fingerprint in zip(entries, prints, strict=True)
+        _result(finding, rule_index(finding.code), prints[i], item, result.root)
+        for i, (finding, item) in enumerate(entries)
+        if kept is None or i in kept
     ]
+    invocation = _invocation(result, rule_index)
+    note = limit_note(len(entries), max_results)
+    if note is not None:  # a warning, not a failure: the log is complete up to the limit
+        counts = {"results": len(entries), "kept": len(results)}
+        invocation["toolExecutionNotifications"].append(
+            {
+                "level": "warning",
+                "message": {"text": note},
+                "properties": {**counts, "leftOut": len(entries) - len(results)},
+            }
+        )
     driver: JsonObject = {"name": "xodrlint", "version": result.tool_version}
     if _SEMVER.fullmatch(result.tool_version):
         driver["semanticVersion"] = result.tool_version
@@ -100,13 +142,49 @@ def as_sarif(result: RunResult) -> JsonObject:
     driver["rules"] = rules
     run: JsonObject = {
         "tool": {"driver": driver},
-        "invocations": [_invocation(result, rule_index)],
+        "invocations": [invocation],
         "originalUriBaseIds": {SRCROOT: {"uri": root_uri(result.root)}},
         "results": results,
         "columnKind": "unicodeCodePoints",
         "properties": {"schemas": _schemas(result)},
     }
     return {"$schema": SCHEMA_URI, "version": SARIF_VERSION, "runs": [run]}
+
+
+def result_count(result: RunResult) -> int:
+    """How many results the log of ``result`` would hold without a limit."""
+    return len(result.findings) + sum(len(report.suppressed) for report in result.reports)
+
+
+def most_important(
+    entries: Sequence[tuple[Finding, Suppressed | None]], max_results: int
+) -> frozenset[int] | None:
+    """The indices of the ``max_results`` entries to keep, ``None`` for all of them:
+    unsuppressed first, then by level (errors first), path, line and the given order."""
+    if not max_results or len(entries) <= max_results:
+        return None
+    ranked = sorted(
+        range(len(entries)),
+        key=lambda i: (
+            entries[i][1] is not None,
+            -entries[i][0].severity.rank,
+            entries[i][0].path,
+            entries[i][0].line,
+            i,
+        ),
+    )
+    return frozenset(ranked[:max_results])
+
+
+def limit_note(total: int, max_results: int) -> str | None:
+    """The line that says how many of ``total`` results the limit left out, if any."""
+    if not max_results or total <= max_results:
+        return None
+    return (
+        f"left out {total - max_results} of {total} SARIF results, keeping the {max_results} "
+        f"most important (errors first); --sarif-max-results N changes the limit (default "
+        f"{DEFAULT_SARIF_MAX_RESULTS}, the most GitHub code scanning accepts; 0: no limit)"
+    )
 
 
 def rule_descriptor(meta: RuleMeta) -> JsonObject:
