@@ -555,7 +555,10 @@ def test_junit_counts_and_cases(tmp_path: Path) -> None:
     broken = suites[0]
     first = next(iter(broken))
     assert isinstance(first, TestCase)
-    assert (first.name, first.classname) == ("XS006 line 25", "examples/broken.xodr")
+    assert (first.name, first.classname) == (
+        f"XS006 line 25 {result.findings[0].xpath}",
+        "examples/broken.xodr",
+    )
     (failure,) = first.result
     assert isinstance(failure, Failure)
     assert failure.type == "XS006"
@@ -569,7 +572,7 @@ def test_junit_counts_and_cases(tmp_path: Path) -> None:
     assert isinstance(error, Error)
     assert error.message == result.reports[4].error
     (unparseable,) = list(suites[3])
-    assert unparseable.name == "XS001 line 15"
+    assert unparseable.name.startswith("XS001 line 15")
 
 
 def test_junit_escapes_markup_and_drops_characters_xml_cannot_hold() -> None:

@@ -120,7 +120,10 @@ FORMAT_NOTES: Final = {
     "gitlab": "GitLab Code Quality: the merge request widget and diff annotations. A file "
     "that could not be read is an issue too (`xodrlint:unreadable`, severity `blocker`, "
     "line 1), so the merge request shows that it went unchecked.",
-    "junit": "JUnit XML: one test suite per file, for GitLab's and Jenkins' test reports.",
+    "junit": "JUnit XML: one test suite per file, for GitLab's and Jenkins' test reports. "
+    "A finding's test case is named by code, line, column (where known) and XPath; "
+    "findings that still share a name get `#2`, `#3` in their order, so every name in a "
+    "suite is unique (GitLab keeps one test case per name) and the same in every run.",
     "xqar": "The ASAM Quality Checker framework's result file (see "
     "[qc-framework.md](qc-framework.md)). Shown here: the bundle and the checkers with "
     "issues; the real file has a checker for every rule, each addressing its rule UIDs.",

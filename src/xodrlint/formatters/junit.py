@@ -1,16 +1,24 @@
 """JUnit XML, as GitLab's test reports and Jenkins' junit step read it.
 
 One ``testsuite`` per input file (named by its path relative to the run's root), one
-failing ``testcase`` per finding (``CODE line N``, with a ``failure`` whose type is the
-code and whose text is ``path:line: CODE [severity] message`` and the XPath), and one
-passing ``testcase`` named ``xodrlint`` for a file without findings. A file that could
-not be read, or on which a rule crashed, has a ``testcase`` with an ``error`` instead.
-Times are always ``0``: the output depends on the input only.
+failing ``testcase`` per finding (with a ``failure`` whose type is the code and whose
+text is ``path:line: CODE [severity] message`` and the XPath), and one passing
+``testcase`` named ``xodrlint`` for a file without findings. A file that could not be
+read, or on which a rule crashed, has a ``testcase`` with an ``error`` instead.
+
+A finding's test case is named ``CODE line N col C XPATH`` (``col C`` only where the
+column is known): GitLab keys test cases by name and keeps one of each, so names must
+differ within a suite, and four schema errors on one element's line would all be
+``XS006 line 56``. Findings that still share a name (one element, one code) are told
+apart by their order among themselves: the second is ``... #2``, the third ``... #3``.
+Findings are sorted (path, line, code, column, message), so the same file gives the same
+names in every run. Times are always ``0``: the output depends on the input only.
 """
 
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable
 from typing import Final, TextIO
 
 from lxml import etree
@@ -65,6 +73,8 @@ def _suite(report: FileReport, path: str) -> etree._Element:
     cases.extend(_failure_case(finding, path) for finding in report.findings)
     if not cases:
         cases.append(_case(CLEAN_CASE, path))
+    for case, name in zip(cases, unique_names(case.get("name", "") for case in cases), strict=True):
+        case.set("name", name)
     errors = (1 if report.error else 0) + len(report.internal_errors)
     suite.set("tests", str(len(cases)))
     suite.set("failures", str(len(report.findings)))
@@ -79,8 +89,32 @@ def _case(name: str, path: str) -> etree._Element:
     return etree.Element("testcase", name=xml_text(name), classname=xml_text(path), time="0")
 
 
+def case_name(finding: Finding) -> str:
+    """What tells a finding apart in its file: code, line, column (where known), XPath."""
+    column = f" col {finding.column}" if finding.column is not None else ""
+    return f"{finding.code} line {finding.line}{column} {finding.xpath}".rstrip()
+
+
+def unique_names(names: Iterable[str]) -> list[str]:
+    """``names`` in order, a repeat of a name given ``#2``, ``#3``, ... (the first keeps
+    it), skipping any a name of its own already took."""
+    taken: set[str] = set()
+    last: dict[str, int] = {}  # the ordinal each name reached: no rescan from #2 each time
+    unique = []
+    for name in names:
+        ordinal = last.get(name, 1)
+        candidate = name if ordinal == 1 else f"{name} #{ordinal}"
+        while candidate in taken:
+            ordinal += 1
+            candidate = f"{name} #{ordinal}"
+        last[name] = ordinal
+        taken.add(candidate)
+        unique.append(candidate)
+    return unique
+
+
 def _failure_case(finding: Finding, path: str) -> etree._Element:
-    case = _case(f"{finding.code} line {finding.line}", path)
+    case = _case(case_name(finding), path)
     failure = etree.SubElement(
         case, "failure", message=xml_text(finding.message), type=finding.code
     )
