@@ -94,6 +94,38 @@ def test_a_small_limit_keeps_errors_first_and_says_so(
     assert log["runs"][0]["invocations"][0]["executionSuccessful"] is True
 
 
+def test_a_report_file_keeps_to_the_limit_and_its_warning_names_it(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(REPO)
+    first, second = tmp_path / "a.sarif", tmp_path / "b.sarif"
+    done = run(
+        "check",
+        "-f",
+        "sarif",
+        "-o",
+        first,
+        "--report",
+        f"sarif={second}",
+        "--report",
+        f"json={tmp_path / 'x.json'}",
+        "--sarif-max-results",
+        "2",
+        BROKEN,
+        code=1,
+    )
+    for target in (first, second):
+        log = json.loads(target.read_text("utf-8"))
+        assert summary(log) == [(25, "XS006", "error"), (30, "XS006", "error")]
+    assert len(json.loads((tmp_path / "x.json").read_text("utf-8"))["findings"]) == 6
+    lines = done.stderr.splitlines()
+    assert left_out(lines[0]) == (4, 6, 2)
+    prefix = f"xodrlint: warning: --report sarif={second}: "
+    assert lines[1].startswith(prefix)
+    assert left_out(lines[1].replace(prefix, "xodrlint: warning: ")) == (4, 6, 2)
+    assert len(lines) == 2
+
+
 def test_kept_results_have_the_fingerprints_of_the_whole_run(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:

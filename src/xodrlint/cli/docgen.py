@@ -112,7 +112,8 @@ FORMAT_NOTES: Final = {
     "line. Suppressed results (`--show-suppressed`) count after every unsuppressed one: a "
     "dismissed alert matters less than any open one. The kept results stay in the usual "
     "order, with the fingerprints they have without a limit. When results were left out, a "
-    "warning says how many, on stderr and in the log (a `warning` in "
+    "warning says how many, on stderr (naming the `--report` file it is about, if it is "
+    "one) and in the log (a `warning` in "
     "`invocations[0].toolExecutionNotifications`, its `properties` giving `results`, "
     "`kept` and `leftOut`). A result's `relatedLocations` are places in the file, not other "
     "results, so none points at a result left out.",
