@@ -558,11 +558,12 @@ def test_explain_works_for_every_rule(meta: Any) -> None:
     assert "## What it does" in out and meta.uid in out
 
 
-def test_rules_lists_all_42_rules() -> None:
-    lines = cli("rules", code=0).stdout.splitlines()[1:]
-    codes = [line.split()[0] for line in lines]
-    assert len(codes) == 42
-    assert sorted({code[:2] for code in codes}) == ["PT", "RL", "ST", "SW", "TR", "XS"]
+def test_rules_lists_all_43_rules_and_which_are_off_by_default() -> None:
+    table, _, footnote = cli("rules", code=0).stdout.partition("\n\n")
+    codes = [line.split()[0] for line in table.splitlines()[1:]]
+    assert len(codes) == 43
+    assert sorted({code[:2] for code in codes}) == ["PT", "RL", "ST", "SW", "TR", "XL", "XS"]
+    assert footnote == "Off by default (turn on with --extend-select): XL001\n"
 
 
 @pytest.mark.parametrize(

@@ -230,3 +230,115 @@ def test_the_directive_markers_are_the_encodings_of_its_start() -> None:
 
     codecs = ("utf-8", "utf-16-le", "utf-16-be", "utf-32-le", "utf-32-be")
     assert tuple("xodrlint:".encode(codec) for codec in codecs) == _MARKERS
+
+
+# -- XL001, a rule like the others, off by default -------------------------------------------
+
+STALE = "      <!-- xodrlint: ignore[ST004, PT001] -->"
+XL001_UID = "xodrlint:xodr:1.0.0:xodrlint.unused_suppression"
+
+
+def _stale(tmp_path: Path) -> Path:
+    """broken.xodr with one comment whose PT001 entry withholds nothing."""
+    return _variant(tmp_path, (SEGMENT, STALE + "\n" + SEGMENT))
+
+
+@pytest.mark.parametrize(
+    ("select", "reported"),
+    [
+        (("ALL",), False),  # the default: XL001 is off
+        (("X",), False),  # a prefix shorter than its family does not name it
+        (("ALL", "XL001"), True),
+        (("ALL", "XL"), True),
+        (("ALL", "unused-suppression"), True),
+        (("ALL", XL001_UID), True),
+    ],
+)
+def test_xl001_runs_only_when_a_selection_names_it(
+    tmp_path: Path, select: tuple[str, ...], reported: bool
+) -> None:
+    path = _stale(tmp_path)
+    assert ("XL001" in [c for c, _ in _lint(path, select=select)]) is reported
+
+
+def test_xl001_is_reported_at_the_comment_about_the_element_after_it(tmp_path: Path) -> None:
+    path = _stale(tmp_path)
+    report = Linter(default_registry(), LintOptions(select=("ST", "PT", "XL001"))).lint_path(path)
+    [unused] = [f for f in report.findings if f.code == "XL001"]
+    assert unused.line == path.read_text("utf-8").splitlines().index(STALE) + 1
+    assert unused.xpath == "/OpenDRIVE/station[@id='500']/platform[@id='501']/segment"
+    assert (unused.uid, unused.severity) == (XL001_UID, "warning")
+    assert unused.message == "'xodrlint: ignore[ST004, PT001]' withholds no finding (PT001)"
+
+
+def test_an_entry_naming_xl001_keeps_the_stale_entries_of_its_comment(tmp_path: Path) -> None:
+    path = _variant(tmp_path, (SEGMENT, STALE.replace("PT001", "PT001, XL") + "\n" + SEGMENT))
+    options = LintOptions(select=("ALL", "XL001"), keep_suppressed=True)
+    report = Linter(default_registry(), options).lint_path(path)
+    assert "XL001" not in [f.code for f in report.findings]
+    assert [(s.finding.code, s.kind) for s in report.suppressed if s.finding.code == "XL001"] == [
+        ("XL001", "inSource")
+    ]
+
+
+def test_ignore_all_in_a_comment_does_not_hide_its_own_xl001(tmp_path: Path) -> None:
+    path = _variant(tmp_path, (SEGMENT, "      <!-- xodrlint: ignore[ALL] -->\n" + SEGMENT))
+    # ALL withholds the segment's ST004 and XS006: used
+    assert "XL001" not in [c for c, _ in _lint(path, select=("ALL", "XL001"))]
+    # the partner rules find nothing on the segment: ALL withholds nothing, and says so
+    assert [c for c, _ in _lint(path, select=("PT", "XL001"))] == ["XL001"]
+
+
+def _check(tmp_path: Path, *args: str, config: str = "") -> Result:
+    (tmp_path / "xodrlint.toml").write_text(config, "utf-8")
+    return run("check", "-f", "json", *args)
+
+
+def _xl001(result: Result) -> list[dict[str, object]]:
+    return [f for f in json.loads(result.stdout)["findings"] if f["code"] == "XL001"]
+
+
+def test_the_command_line_selects_and_ignores_xl001(tmp_path: Path) -> None:
+    path = str(_stale(tmp_path))
+    assert _xl001(_check(tmp_path, path)) == []
+    assert len(_xl001(_check(tmp_path, path, "--extend-select", "XL001"))) == 1
+    assert len(_xl001(_check(tmp_path, path, "--warn-unused-suppressions"))) == 1
+    ignored = _check(tmp_path, path, "--warn-unused-suppressions", "--ignore", "XL001")
+    assert ignored.exit_code == 1 and _xl001(ignored) == []
+    from_config = "warn-unused-suppressions = true\n"
+    assert _xl001(_check(tmp_path, path, "--ignore", "XL001", config=from_config)) == []
+    assert len(_xl001(_check(tmp_path, path, config='extend-select = ["XL001"]\n'))) == 1
+
+
+def test_the_config_sets_xl001s_severity_and_per_file_ignores_withhold_it(tmp_path: Path) -> None:
+    path = str(_stale(tmp_path))
+    severity = '[severity]\nXL001 = "error"\n'
+    [finding] = _xl001(_check(tmp_path, path, "--extend-select", "XL001", config=severity))
+    assert finding["severity"] == "error"
+    ignores = '[per-file-ignores]\n"map.xodr" = ["XL001"]\n'
+    result = _check(tmp_path, path, "--extend-select", "XL001", config=ignores)
+    assert result.exit_code == 1 and _xl001(result) == []
+    # the per-file-ignores above still apply
+    sarif = run("check", "-f", "sarif", path, "--extend-select", "XL001", "--show-suppressed")
+    [withheld] = [
+        r for r in json.loads(sarif.stdout)["runs"][0]["results"] if r["ruleId"] == "XL001"
+    ]
+    assert withheld["suppressions"][0]["kind"] == "external"
+
+
+def test_sarif_describes_the_rules_that_rules_lists(tmp_path: Path) -> None:
+    listed = [entry["code"] for entry in json.loads(run("rules", "-f", "json").stdout)]
+    assert "XL001" in listed
+    for extra in ((), ("--warn-unused-suppressions",)):
+        sarif = json.loads(run("check", "-f", "sarif", BROKEN, *extra).stdout)
+        assert [rule["id"] for rule in sarif["runs"][0]["tool"]["driver"]["rules"]] == listed
+
+
+def test_rules_and_explain_say_xl001_is_off_by_default() -> None:
+    entries = {e["code"]: e for e in json.loads(run("rules", "-f", "json").stdout)}
+    assert entries["XL001"]["enabled_by_default"] is False
+    assert entries["XL001"]["uid"] == XL001_UID
+    assert all(e["enabled_by_default"] for code, e in entries.items() if code != "XL001")
+    page = run("explain", "XL001").stdout
+    assert page.startswith("# XL001 unused-suppression\n")
+    assert "off by default (`--extend-select XL001`)" in page

@@ -41,12 +41,14 @@ from xodrlint.suppress import (
     Suppressions,
     may_hold_directives,
     read_directives,
-    unused_findings,
+    unused_hits,
 )
 from xodrlint.validation.sets import Origin, SchemaFinder, SchemaLoadError
 from xodrlint.validation.validators import SchemaValidators
 
 SCHEMA_RULE: Final = "XS006"
+#: Reports the suppression comments that withheld nothing: it runs after every other rule.
+UNUSED_SUPPRESSION: Final = "XL001"
 #: Findings of these rules mean the file is not an OpenDRIVE tree: nothing else runs.
 FATAL_CODES: Final = frozenset({"XS001", "XS002"})
 DOCUMENT_XPATH: Final = "/"
@@ -79,7 +81,8 @@ class LintOptions(NamedTuple):
     keep_suppressed: bool = False
     """Keep withheld findings in the report (SARIF lists them as suppressed)."""
     warn_unused_suppressions: bool = False
-    """Report suppression comments that withhold nothing (XL001)."""
+    """Select XL001 too (unused suppression comments): ``--warn-unused-suppressions``,
+    an alias of ``--extend-select XL001``."""
     rule_timeout: float | None = DEFAULT_RULE_TIMEOUT
     """Seconds a rule may run on one file before it is stopped (``None``: no limit)."""
 
@@ -89,6 +92,8 @@ def select_rules(registry: Registry, select: Sequence[str], ignore: Sequence[str
 
     An entry is ``ALL``, a code prefix (``SW``, ``SW00``, ``SW001``), a rule name or one of
     a rule's UIDs. When a select and an ignore entry are equally specific, ignore wins.
+    An opt-in rule is picked only by an entry that names its family or more (``XL``,
+    ``XL001``, its name or a UID), never by ``ALL``.
     """
     for token in (*select, *ignore):
         if not any(_specificity(token, r) is not None for r in registry.rules):
@@ -128,14 +133,20 @@ def _best(tokens: Iterable[str], candidate: Rule) -> int | None:
 
 
 def _specificity(token: str, candidate: Rule) -> int | None:
+    """How closely ``token`` names the rule (``None``: not at all); suppressions and
+    per-file-ignores match with it too, so ``ALL`` there leaves an opt-in rule alone."""
     meta = candidate.meta
     if token.upper() == "ALL":
-        return 0
-    if token in meta.uids or token.lower() == meta.name:
-        return len(meta.code)
-    if token and meta.code.startswith(token.upper()):
-        return len(token)
-    return None
+        score = 0
+    elif token in meta.uids or token.lower() == meta.name:
+        score = len(meta.code)
+    elif token and meta.code.startswith(token.upper()):
+        score = len(token)
+    else:
+        return None
+    if meta.opt_in and score < len(meta.code.rstrip("0123456789")):
+        return None
+    return score
 
 
 @contextlib.contextmanager
@@ -184,11 +195,18 @@ class Linter:
         # pays it; each lint replaces them, so at most one extra document is held.
         self._keep_last_document = keep_last_document
         self._last_document: LastDocument | None = None
-        self.rules = select_rules(registry, self.options.select, self.options.ignore)
+        select = self.options.select
+        if self.options.warn_unused_suppressions:
+            select = (*select, UNUSED_SUPPRESSION)
+        self.rules = select_rules(registry, select, self.options.ignore)
         self._codes = {r.code for r in self.rules}
         self._settings = resolve_rule_options(registry, self.options.rule_options)
-        # the document rules report what loading and validating found: they run last
-        self._document_rules = [r for r in self.rules if r.meta.pack == DOCUMENT_PACK]
+        # the document rules report what loading and validating found: they run last,
+        # and the unused-suppression rule once every other rule's findings are withheld
+        self._unused_rules = [r for r in self.rules if r.code == UNUSED_SUPPRESSION]
+        self._document_rules = [
+            r for r in self.rules if r.meta.pack == DOCUMENT_PACK and r.code != UNUSED_SUPPRESSION
+        ]
         self._model_rules = [r for r in self.rules if r.meta.pack != DOCUMENT_PACK]
         finder = SchemaFinder(option=self.options.schema, option_origin=self.options.schema_origin)
         self._validators = SchemaValidators(finder)
@@ -279,7 +297,9 @@ class Linter:
             if doc.effective is not None and doc.declared is not None:
                 schema_note = check.schema.version_note(doc.declared, doc.effective)
         self._run(self._document_rules, RailNetwork(problems=problems), doc, stamped, crashes)
-        kept, withheld = self._apply_suppressions(doc, _one_defect_one_finding(stamped), external)
+        kept, withheld = self._apply_suppressions(
+            doc, _one_defect_one_finding(stamped), external, crashes
+        )
         findings = sorted(kept, key=lambda f: f.sort_key)
         source: dict[int, str] = {}
         if self.options.keep_source:
@@ -334,13 +354,37 @@ class Linter:
                     stamped.extend(produced)
 
     def _apply_suppressions(
-        self, doc: Document, stamped: list[_Stamped], external: ExternalIgnores
+        self,
+        doc: Document,
+        stamped: list[_Stamped],
+        external: ExternalIgnores,
+        crashes: list[str],
     ) -> tuple[list[Finding], list[Suppressed]]:
         # a map without the word has no suppression comment: skip walking its comments
         directives = read_directives(doc.root) if may_hold_directives(doc.data) else []
         suppressions = Suppressions(directives, self._selector_matches)
         kept: list[Finding] = []
         withheld: list[Suppressed] = []
+        self._withhold(stamped, suppressions, external, kept, withheld)
+        if self._unused_rules and directives:
+            # only now is it known which entries withheld something; XL001's own findings
+            # then pass the same suppressions (``ignore[PT001, XL001]`` keeps a stale entry)
+            hits = list(unused_hits(doc, suppressions, self._judgeable))
+            unused: list[_Stamped] = []
+            network = RailNetwork(problems={UNUSED_SUPPRESSION: hits})
+            self._run(self._unused_rules, network, doc, unused, crashes)
+            self._withhold(unused, suppressions, external, kept, withheld)
+        return kept, withheld
+
+    def _withhold(
+        self,
+        stamped: list[_Stamped],
+        suppressions: Suppressions,
+        external: ExternalIgnores,
+        kept: list[Finding],
+        withheld: list[Suppressed],
+    ) -> None:
+        """Sort ``stamped`` into ``kept`` and ``withheld`` (by a comment or from outside)."""
         for item in stamped:
             code = item.finding.code
             directive = suppressions.withholding(code, item.element)
@@ -353,14 +397,14 @@ class Linter:
                 withheld.append(Suppressed(item.finding, "external", outside))
             else:
                 kept.append(item.finding)
-        if self.options.warn_unused_suppressions:
-            kept.extend(unused_findings(doc, suppressions, self.options.severity, self._judgeable))
-        return kept, withheld
 
     def _judgeable(self, selector: str) -> bool:
         """Whether this run can tell that a suppression entry is stale: it names no
-        rule at all (a typo), or one of the rules it names ran."""
+        rule at all (a typo), or one of the rules it names ran. An entry naming XL001
+        is never judged: it withholds the very findings that would judge it."""
         named = [code for code in self.registry.by_code if self._selector_matches(selector, code)]
+        if UNUSED_SUPPRESSION in named:
+            return False
         return not named or any(code in self._codes for code in named)
 
     def _selector_matches(self, selector: str, code: str) -> bool:
@@ -372,7 +416,8 @@ class Linter:
     def _stamp(self, doc: Document, candidate: Rule, hit: Hit) -> _Stamped:
         meta = candidate.meta
         if hit.element is not None and doc.tree is not None:
-            line, xpath = doc.line_of(hit.element), doc.xpath_of(hit.element)
+            line = hit.line or doc.line_of(hit.element)
+            xpath = doc.xpath_of(hit.element)
         else:
             line, xpath = hit.line or 1, DOCUMENT_XPATH
         severity = self.options.severity.get(meta.code, meta.severity)

@@ -38,12 +38,14 @@ class Hit(NamedTuple):
     """What a rule yields: the element a defect is about and a message.
 
     ``element`` is ``None`` only where no element exists (a file that does not parse); then
-    ``line`` carries the parser's line. ``related`` names other elements the message is
-    about (the first of two duplicates): the engine adds their lines to the message and
-    to the finding. ``kind`` says what sort of schema error a schema-stage hit is
-    (``keyref``, ``duplicate``, ``missing_child``, ...). ``defers_to``, when set, replaces
-    the rule's :attr:`RuleMeta.defers_to` for this hit: the schema rule hands a keyref
-    error to SW004 but keeps every other error on the same element.
+    ``line`` carries the parser's line. Given with an element, ``line`` is where the
+    defect stands when that is not the element's start tag (an unused suppression comment
+    is about the element after it, on a line of its own). ``related`` names other
+    elements the message is about (the first of two duplicates): the engine adds their
+    lines to the message and to the finding. ``kind`` says what sort of schema error a
+    schema-stage hit is (``keyref``, ``duplicate``, ``missing_child``, ...). ``defers_to``,
+    when set, replaces the rule's :attr:`RuleMeta.defers_to` for this hit: the schema rule
+    hands a keyref error to SW004 but keeps every other error on the same element.
     """
 
     element: "etree._Element | None"
@@ -190,6 +192,9 @@ class RuleMeta(NamedTuple):
     defers_to: tuple[str, ...] = ()
     """Codes of more specific rules: when one of them reports on the same element, this
     rule's (deferrable) finding there is withdrawn."""
+    opt_in: bool = False
+    """Off by default: ``ALL`` (the default selection) and a prefix shorter than its
+    family (``X`` for ``XL001``) do not name it; its family, code, name or a UID do."""
 
     @property
     def uids(self) -> tuple[str, ...]:

@@ -10,14 +10,14 @@ finding policy, so a withheld finding never lets a less specific one through.
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from typing import Final
 
 from lxml import etree
 
 from xodrlint.document import Document
-from xodrlint.findings import Finding, RuleMeta, Severity
+from xodrlint.findings import Hit
 
 DIRECTIVE: Final = re.compile(
     r"^\s*xodrlint:\s*(?P<scope>ignore-file|ignore)\s*\[(?P<codes>[^\]]*)\]\s*(?P<reason>.*?)\s*$",
@@ -131,41 +131,19 @@ class Suppressions:
                 yield directive, idle
 
 
-UNUSED_META: Final = RuleMeta(
-    code="XL001",
-    name="unused-suppression",
-    uid="xodrlint:xodr:1.0.0:suppression.unused",
-    severity=Severity.WARNING,
-    summary="a suppression comment withholds no finding",
-    doc=(
-        "XL001 unused-suppression: a suppression comment withholds no finding.\n\n"
-        "## What it does\nReported with `--warn-unused-suppressions`: an "
-        "`xodrlint: ignore[...]` or `ignore-file[...]` comment, or one of its entries, that "
-        "withholds nothing in this run (the defect was fixed, or the entry names no rule).\n\n"
-        "## Why is this bad?\nA stale suppression hides the next real defect of that kind.\n"
-    ),
-    pack="xodrlint.suppress",
-)
-
-
-def unused_findings(
-    doc: Document,
-    suppressions: Suppressions,
-    severity: Mapping[str, Severity],
-    judgeable: Callable[[str], bool],
-) -> Iterator[Finding]:
-    """An XL001 finding per suppression comment with entries that withheld nothing."""
+def unused_hits(
+    doc: Document, suppressions: Suppressions, judgeable: Callable[[str], bool]
+) -> Iterator[Hit]:
+    """A hit per suppression comment with entries that withheld nothing (the XL001 rule
+    reports them). It is about the element the comment stands before (for a file-wide
+    comment, the one holding it), so a suppression of that element covers it, but its
+    line is the comment's."""
     for directive, idle in suppressions.unused(judgeable):
         anchor = directive.target if directive.target is not None else directive.comment.getparent()
         shown = ", ".join(idle) if idle else "nothing"
-        yield Finding(
-            path=doc.path,
-            line=doc.line_of(directive.comment),
-            column=None,
-            code=UNUSED_META.code,
-            uid=UNUSED_META.uid,
-            severity=severity.get(UNUSED_META.code, UNUSED_META.severity),
-            message=f"'xodrlint: {directive.scope}[{', '.join(directive.selectors)}]' "
+        yield Hit(
+            anchor,
+            f"'xodrlint: {directive.scope}[{', '.join(directive.selectors)}]' "
             f"withholds no finding ({shown})",
-            xpath=doc.xpath_of(anchor) if anchor is not None else "/",
+            line=doc.line_of(directive.comment),
         )

@@ -56,7 +56,6 @@ from xodrlint.formatters import Formatter, available, get_formatter, warnings_of
 from xodrlint.messages import one_line
 from xodrlint.output import error_line, write_output
 from xodrlint.registry import Registry
-from xodrlint.suppress import UNUSED_META
 from xodrlint.validation.sets import SCHEMA_PATH_ENV, Origin, SchemaLoadError
 from xodrlint.workers.batch import Task, default_jobs, lint_tasks
 
@@ -223,10 +222,9 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
         from xodrlint.baseline import apply_baseline
 
         reports = apply_baseline(reports, recorded, root, keep=request.show_suppressed)
-    metas = registry.metas + ((UNUSED_META,) if settings.warn_unused_suppressions else ())
     result = RunResult(
         tuple(reports),
-        metas,
+        registry.metas,
         __version__,
         notes=run_notes(reports),
         root=root,

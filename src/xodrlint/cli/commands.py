@@ -233,8 +233,9 @@ def check(
         bool | None,
         typer.Option(
             "--warn-unused-suppressions",
-            help="Report suppression comments that withhold nothing (XL001).",
-            rich_help_panel=_OUTPUT,
+            help="Report suppression comments that withhold nothing: an alias of "
+            "--extend-select XL001.",
+            rich_help_panel=_SELECTION,
         ),
     ] = None,
     show_suppressed: Annotated[

@@ -61,6 +61,11 @@ def render_page(meta: RuleMeta, cases: Iterable[Case], root: Path) -> str:
         f"- Severity: `{meta.severity}`",
         f"- UID: `{meta.uid}`",
         *[f"- Alias: `{alias}`" for alias in meta.aliases],
+        *(
+            [f"- Off by default: turn it on with `--extend-select {meta.code}`"]
+            if meta.opt_in
+            else []
+        ),
         "",
         head[1].strip() if len(head) > 1 else "",
         "",
@@ -143,9 +148,13 @@ def formats_page(root: Path) -> str:
     from xodrlint.registry import load_registry
 
     registry = load_registry()
-    report = Linter(registry, LintOptions()).lint_path(root / FORMATS_EXAMPLE, FORMATS_EXAMPLE)
+    linter = Linter(registry, LintOptions())
+    report = linter.lint_path(root / FORMATS_EXAMPLE, FORMATS_EXAMPLE)
     notes = run_notes([report])
-    result = RunResult((report,), registry.metas, __version__, notes=notes, root=str(root))
+    selected = tuple(rule.code for rule in linter.rules)  # as check says what did not run
+    result = RunResult(
+        (report,), registry.metas, __version__, notes=notes, root=str(root), selected=selected
+    )
     lines = [
         "# Output formats",
         "",

@@ -26,6 +26,7 @@ def print_rules(output_format: str) -> int:
                 "pack": m.pack,
                 "options": [option.as_dict() for option in m.options],
                 "defers_to": list(m.defers_to),
+                "enabled_by_default": not m.opt_in,
             }
             for m in registry.metas
         ]
@@ -41,6 +42,9 @@ def print_rules(output_format: str) -> int:
     for row in rows:
         cells = [cell.ljust(width) for cell, width in zip(row, widths, strict=False)]
         print("  ".join([*cells, row[3]]))
+    opt_in = [m.code for m in registry.metas if m.opt_in]
+    if opt_in:
+        print(f"\nOff by default (turn on with --extend-select): {', '.join(opt_in)}")
     return 0
 
 
@@ -59,6 +63,7 @@ def explain_rule(token: str, color: str | None = None) -> int:
         f"# {meta.code} {meta.name}\n\n"
         f"Severity: {meta.severity} · UID: `{meta.uid}`"
         + "".join(f" · alias `{alias}`" for alias in meta.aliases)
+        + (f" · off by default (`--extend-select {meta.code}`)" if meta.opt_in else "")
         + "\n\n"
     )
     body = meta.doc.split("\n", 1)[1] if "\n" in meta.doc else ""

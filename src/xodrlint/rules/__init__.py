@@ -59,12 +59,14 @@ def rule(
     aliases: Iterable[str] = (),
     options: Iterable[RuleOption] = (),
     defers_to: Iterable[str] = (),
+    opt_in: bool = False,
 ) -> Callable[[PlainCheck | ConfiguredCheck], Rule]:
     """Declare a rule; the docstring of the module defining it is its doc page.
 
     ``defers_to`` names the more specific rules that report a defect this rule would
     also see on the same element (one defect, one finding); the engine withdraws this
-    rule's finding there when one of them reports it.
+    rule's finding there when one of them reports it. An ``opt_in`` rule is off by
+    default: it runs only when a selection names it (see :attr:`RuleMeta.opt_in`).
     """
     if not CODE_PATTERN.match(code):
         raise ValueError(f"rule code {code!r} is not two to four capitals and three digits")
@@ -89,6 +91,7 @@ def rule(
             pack,
             declared,
             tuple(defers_to),
+            opt_in,
         )
         return Rule(meta, _configured(check, takes_settings=bool(declared)))
 
