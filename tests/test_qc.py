@@ -197,10 +197,42 @@ def test_qc_takes_the_input_file_as_an_argument(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.chdir(tmp_path)
-    cli("qc", BROKEN, code=0)
+    done = cli("qc", BROKEN, code=0)
+    assert done.stderr == f"xodrlint: wrote results to {BUNDLE_NAME}.xqar\n"
     assert len(list(etree.parse(f"{BUNDLE_NAME}.xqar").getroot().iter("Issue"))) == 6
-    cli("qc", BROKEN, "-o", "elsewhere.xqar", code=0)
+    done = cli("qc", BROKEN, "-o", "elsewhere.xqar", code=0)
+    assert done.stderr == "xodrlint: wrote results to elsewhere.xqar\n"
     assert (tmp_path / "elsewhere.xqar").is_file()
+    to_stdout = cli("qc", BROKEN, "-o", "-", code=0)
+    assert to_stdout.stdout.startswith("<?xml") and "wrote" not in to_stdout.stderr
+    refused = cli("qc", BROKEN, "-o", "missing/x.xqar", code=2)
+    assert (
+        refused.stderr == "xodrlint: --output missing/x.xqar: its folder missing does not exist\n"
+    )
+
+
+@pytest.mark.parametrize(
+    "where",
+    # any name too, as ASAM's bundles take it (the framework's pooling reads only
+    # *.xqar beside it, and keeps Result.xqar for itself: docs/qc-framework.md says so)
+    ["out/x.xqar", "out/deeper/../x.xqar", "{tmp}/results/x.xqar", "Result.xqar", "x.xml"],
+)
+def test_qc_writes_the_result_where_the_configuration_says(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, where: str
+) -> None:
+    # as ASAM's bundles: relative to the working folder (not the configuration's folder)
+    work = tmp_path / "work"
+    for folder in (work / "out" / "deeper", tmp_path / "results"):
+        folder.mkdir(parents=True)
+    result = where.format(tmp=tmp_path)
+    config = _config(tmp_path, result=result)
+    (work / "map.xodr").write_bytes(BROKEN.read_bytes())
+    monkeypatch.chdir(work)
+    done = cli("qc", "-c", config, code=0)
+    assert done.stderr == f"xodrlint: wrote results to {result}\n"
+    written = work / result if not Path(result).is_absolute() else Path(result)
+    assert len(list(etree.parse(str(written)).getroot().iter("Issue"))) == 6
+    assert not (tmp_path / "out").exists()  # not beside the configuration
 
 
 @pytest.mark.parametrize(
@@ -208,17 +240,21 @@ def test_qc_takes_the_input_file_as_an_argument(
     [
         ({"checker": 'checkerId="nope"'}, "'nope' is no checker of xodrlintBundle"),
         ({"checker": 'checkerId="PT001" minLevel="4"'}, "minLevel='4' of 'PT001' is not 1, 2 or 3"),
-        ({"result": "sub/out.xqar"}, "must be a file name ending in .xqar"),
-        ({"result": "Result.xqar"}, "'Result.xqar' is the framework's own"),
+        ({"result": "sub/out.xqar"}, "resultFile sub/out.xqar: its folder sub does not exist"),
+        ({"result": "map.xodr/x.xqar"}, "its folder map.xodr is not a folder"),
+        ({"result": "sub/"}, "resultFile sub/: names a folder, not a file"),
+        ({"result": "map.xodr"}, "resultFile map.xodr: is the input file; refusing to overwrite"),
+        ({"result": "./map.xodr"}, "resultFile ./map.xodr: is the input file"),
         ({"text": "<Confi"}, "cannot read the configuration"),
         ({"text": "<Other/>"}, "the root element is 'Other', not 'Config'"),
         ({"text": "<Config/>"}, "no Param named 'InputFile'"),
     ],
 )
 def test_a_bad_configuration_is_one_line_and_exit_2(
-    tmp_path: Path, change: dict[str, str], message: str
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, change: dict[str, str], message: str
 ) -> None:
     checker = change.get("checker")
+    monkeypatch.chdir(tmp_path)  # where the framework starts a bundle
     config = _config(
         tmp_path, *([checker] if checker else []), result=change.get("result", "o.xqar")
     )
@@ -226,6 +262,7 @@ def test_a_bad_configuration_is_one_line_and_exit_2(
         config.write_text(change["text"], "utf-8")
     result = cli("qc", "-c", config, code=2)
     assert result.stderr.count("\n") == 1 and message in result.stderr, result.stderr
+    assert (tmp_path / "map.xodr").read_bytes() == BROKEN.read_bytes()
 
 
 def test_qc_refuses_a_configuration_and_an_input_together(tmp_path: Path) -> None:

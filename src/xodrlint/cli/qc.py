@@ -4,7 +4,9 @@ The framework starts each registered bundle with its configuration file (``-c``)
 run's working folder; the bundle reads ``InputFile``, its own ``CheckerBundle`` entry
 (``application="xodrlintBundle"``: a ``resultFile`` and ``Checker`` entries whose
 ``minLevel``/``maxLevel`` pick what runs and which issues are kept) and writes the result
-file there. Without a configuration the input file is an argument.
+file where ``resultFile`` says, relative to that folder, as ASAM's own bundles do (which
+open it as given, so its folder must exist). Without a configuration the input file is an
+argument. Either way the bundle says on stderr where it wrote the result.
 
 A bundle registers through a module manifest (JSON) that tells the framework how to start
 it; ``xodrlint qc --manifest FILE`` writes one for this installation.
@@ -13,22 +15,30 @@ it; ``xodrlint qc --manifest FILE`` writes one for this installation.
 from __future__ import annotations
 
 import json
+import os
 import shlex
 import sys
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Final, NamedTuple, TextIO
+from typing import TYPE_CHECKING, Final, NamedTuple, TextIO
 
 from lxml import etree
 
 from xodrlint.document import hardened_parser
 from xodrlint.formatters.xqar import BUNDLE_NAME, LevelRange, XqarFormatter, checker_id
+from xodrlint.messages import one_line
 from xodrlint.output import STDOUT, error_line, write_output
 from xodrlint.registry import Registry
 
+if TYPE_CHECKING:
+    from xodrlint.findings import RunResult
+    from xodrlint.formatters import Formatter
+
 #: The result file a bundle writes when its configuration names none.
 DEFAULT_RESULT: Final = f"{BUNDLE_NAME}.xqar"
-#: The framework reserves this name for its own pooled result.
+#: The framework's pooled result: its pooling skips a bundle result of this name, in the
+#: working folder where it reads every other ``*.xqar`` (docs/qc-framework.md says so;
+#: a bundle may still write it, as ASAM's own may).
 POOLED_RESULT: Final = "Result.xqar"
 #: A checker without levels keeps every issue: errors (1) to information (3).
 ALL_LEVELS: Final = (1, 3)
@@ -45,6 +55,8 @@ class QcRun(NamedTuple):
     """The configuration's global and bundle parameters, copied into the result."""
     levels: Mapping[str, LevelRange] | None = None
     """(maxLevel, minLevel) by rule code of each configured checker; ``None``: all rules."""
+    result_named_by: str = "result file"
+    """What named the result file, for messages: ``--output``, the configuration."""
 
 
 def read_config(path: Path, registry: Registry) -> QcRun:
@@ -64,20 +76,12 @@ def read_config(path: Path, registry: Registry) -> QcRun:
     if not input_file:
         raise QcError(f"{path}: no Param named 'InputFile'")
     result_file = dict(own).get("resultFile") or DEFAULT_RESULT
-    _check_result_name(result_file, path)
     levels = _levels(bundles[0], registry, path) if bundles else None
-    return QcRun(input_file, result_file, tuple(params + own), levels)
+    return QcRun(input_file, result_file, tuple(params + own), levels, f"{path}: resultFile")
 
 
 def _params(holder: etree._Element) -> list[tuple[str, str]]:
     return [(p.get("name", ""), p.get("value", "")) for p in holder.iterchildren("Param")]
-
-
-def _check_result_name(name: str, path: Path) -> None:
-    if not name.endswith(".xqar") or Path(name).name != name:
-        raise QcError(f"{path}: resultFile '{name}' must be a file name ending in .xqar")
-    if name == POOLED_RESULT:
-        raise QcError(f"{path}: resultFile '{POOLED_RESULT}' is the framework's own")
 
 
 def _levels(bundle: etree._Element, registry: Registry, path: Path) -> dict[str, LevelRange]:
@@ -116,8 +120,9 @@ def run_qc(
 
     try:
         run = _run_for(config, input_file, output, default_registry())
+        _check_result_path(run)
     except QcError as error:
-        error_line(str(error))
+        error_line(one_line(str(error)))  # it quotes the configuration's values
         return 2
     request = CheckRequest(
         paths=(run.input_file,),
@@ -126,7 +131,51 @@ def run_qc(
         exit_zero=True,
         select=tuple(run.levels) if run.levels else None,
     )
-    return run_check(request, XqarFormatter(params=run.params, levels=run.levels))
+    formatter = _Noted(XqarFormatter(params=run.params, levels=run.levels))
+    code = run_check(request, formatter)
+    if formatter.written and run.result_file != STDOUT:
+        print(one_line(f"xodrlint: wrote results to {run.result_file}"), file=sys.stderr)
+    return code
+
+
+class _Noted:
+    """The bundle's formatter, noting that the result went out whole, so that ``qc``
+    names the file it wrote and only that."""
+
+    def __init__(self, inner: Formatter) -> None:
+        self._inner = inner
+        self.written = False
+
+    def render(self, result: RunResult, stream: TextIO) -> None:
+        self._inner.render(result, stream)
+        stream.flush()  # a full disk fails here, before the file is said to be written
+        self.written = True
+
+
+def _check_result_path(run: QcRun) -> None:
+    """Refuse a result file that cannot be written, or that is the input, before linting.
+
+    ASAM's bundles open the configuration's ``resultFile`` as given, relative to the
+    working folder, and do not create its folder; nor does this one, but it says so in
+    one line where theirs end in a traceback.
+    """
+    if run.result_file == STDOUT:
+        return
+    from xodrlint.api import collect_inputs
+    from xodrlint.files import overwrites
+
+    target = Path(run.result_file)
+    named = f"{run.result_named_by} {run.result_file}"
+    if target.is_dir() or run.result_file.endswith(("/", os.sep)):
+        raise QcError(f"{named}: names a folder, not a file")
+    folder = target.parent
+    if not folder.is_dir():
+        problem = "is not a folder" if folder.exists() else "does not exist"
+        raise QcError(f"{named}: its folder {folder} {problem}")
+    inputs = [item.path for item in collect_inputs((run.input_file,)) if item.path is not None]
+    if overwrites(target, inputs):
+        which = "the input file" if len(inputs) == 1 else "one of the input files"
+        raise QcError(f"{named}: is {which}; refusing to overwrite it")
 
 
 def _run_for(
@@ -140,7 +189,7 @@ def _run_for(
         run = QcRun(input_file, DEFAULT_RESULT, (("InputFile", input_file),))
     else:
         raise QcError("qc needs a configuration (-c config.xml) or an input file")
-    return run._replace(result_file=output) if output else run
+    return run._replace(result_file=output, result_named_by="--output") if output else run
 
 
 def module_manifest() -> dict[str, object]:
