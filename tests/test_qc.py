@@ -297,9 +297,19 @@ def test_the_manifest_starts_this_installation_as_the_framework_would(tmp_path: 
     reason="set XODRLINT_QC_BASELIB_PYTHON to a Python with asam-qc-baselib (CI does)",
 )
 def test_asam_qc_baselib_reads_the_result(tmp_path: Path) -> None:
-    findings = report(BROKEN, TWO, code=1)["findings"]
+    # a stale suppression too: XL001's UID must pass qc-baselib's rule UID check
+    stale = tmp_path / "stale.xodr"
+    stale.write_text(
+        CLEAN.read_text("utf-8").replace(
+            "</OpenDRIVE>", "<!-- xodrlint: ignore-file[PT001] -->\n</OpenDRIVE>"
+        ),
+        "utf-8",
+    )
+    args = (BROKEN, TWO, stale, "--extend-select", "XL001")
+    findings = report(*args, code=1)["findings"]
+    assert "XL001" in [f["code"] for f in findings]
     result = tmp_path / "result.xqar"
-    cli("check", "-f", "xqar", BROKEN, TWO, "-o", result, code=1)
+    cli("check", "-f", "xqar", *args, "-o", result, code=1)
     expected = tmp_path / "expected.json"
     expected.write_text(json.dumps(findings), "utf-8")
     reader = REPO / "tests" / "interop" / "read_with_qc_baselib.py"
