@@ -22,6 +22,7 @@ from typer.testing import CliRunner, Result
 from xodrlint import __version__
 from xodrlint.api import default_registry
 from xodrlint.cli import app
+from xodrlint.cli.check import FULL_VALIDATION_NOTE
 from xodrlint.validation.store import install_wheel
 
 from .conftest import REPO
@@ -191,12 +192,22 @@ def test_text_report_when_piped_is_plain_and_unwrapped(tmp_path: Path) -> None:
     assert not ANSI.search(cli("check", BROKEN, code=1).stdout)
 
 
-def test_quiet_prints_finding_lines_only() -> None:
-    lines = cli("check", BROKEN, "--quiet", code=1).stdout.splitlines()
-    assert [line.split(" [")[0] for line in lines] == [
+def test_quiet_prints_finding_lines_and_the_note_of_what_was_not_checked(
+    tmp_path: Path,
+) -> None:
+    # the pre-commit hook runs with --quiet: it must still say that only railroad
+    # elements were validated, in one line after the findings, and print no summary
+    note = f"note: {FULL_VALIDATION_NOTE}"
+    *findings, last = cli("check", BROKEN, "--quiet", code=1).stdout.splitlines()
+    assert [line.split(" [")[0] for line in findings] == [
         f"{BROKEN}:{line}: {code}" for line, code, _ in BROKEN_FINDINGS
     ]
-    assert cli("check", CLEAN, "-q", code=0).stdout == ""
+    assert last == note
+    assert cli("check", CLEAN, "-q", code=0).stdout == note + "\n"
+    # validated in full (here by a stand-in for the official set): nothing to say
+    stub = tmp_path / "opendrive.xsd"
+    stub.write_text(STUB_XSD, "utf-8")
+    assert cli("check", CLEAN, "-q", "--schema", stub, code=0).stdout == ""
 
 
 def test_show_source_prints_the_source_line() -> None:

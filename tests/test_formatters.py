@@ -23,6 +23,7 @@ from typer.testing import CliRunner
 from xodrlint import __version__
 from xodrlint.api import default_registry
 from xodrlint.cli import app
+from xodrlint.cli.check import FULL_VALIDATION_NOTE
 from xodrlint.engine import Linter, LintOptions
 from xodrlint.findings import (
     FileReport,
@@ -673,6 +674,21 @@ def test_concise_lines() -> None:
     assert len(lines) == 6
     multiline = one_report(finding(message="first\nsecond", related=(Location(1, "/"),)))
     assert render("concise", multiline) == ("net.xodr:3: SW007 [error] first second\n")
+
+
+@pytest.mark.parametrize("quiet", [(), ("--quiet",)], ids=["default", "quiet"])
+def test_concise_prints_the_note_of_what_was_not_checked_on_stderr(
+    monkeypatch: pytest.MonkeyPatch, quiet: tuple[str, ...]
+) -> None:
+    # stdout stays one line per finding (editors parse it); the note, that only railroad
+    # elements were validated, is not lost for that, with --quiet (pre-commit) or without
+    monkeypatch.chdir(REPO)
+    args = ["check", "-f", "concise", *quiet, "examples/broken.xodr"]
+    result = CliRunner().invoke(app, args, env=PLAIN_ENV)
+    assert result.exit_code == 1, result.output
+    assert len(result.stdout.splitlines()) == 6
+    assert all(line.startswith("examples/broken.xodr:") for line in result.stdout.splitlines())
+    assert result.stderr == f"xodrlint: note: {FULL_VALIDATION_NOTE}\n"
 
 
 # The CLI, end to end -----------------------------------------------------------------

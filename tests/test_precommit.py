@@ -9,10 +9,14 @@ import sys
 from pathlib import Path
 
 import pytest
+import yaml  # type: ignore[import-untyped, unused-ignore]
+
+from xodrlint.cli.check import FULL_VALIDATION_NOTE
 
 from .conftest import REPO
 
 PRE_COMMIT = Path(sys.executable).parent / "pre-commit"
+BAD = tuple(f"bad{n}.xodr" for n in range(8))
 
 
 @pytest.mark.skipif(not PRE_COMMIT.exists(), reason="pre-commit is not installed")
@@ -22,7 +26,8 @@ def test_hook_passes_a_good_map_and_fails_a_bad_one(tmp_path: Path) -> None:
     maps = tmp_path / "maps"
     maps.mkdir()
     shutil.copy(REPO / "examples" / "clean.xodr", maps / "Good.XODR")
-    shutil.copy(REPO / "examples" / "broken.xodr", maps / "bad.xodr")
+    for name in BAD:
+        shutil.copy(REPO / "examples" / "broken.xodr", maps / name)
     (maps / "notes.txt").write_text("not a map\n", "utf-8")
     env = {
         **os.environ,
@@ -49,7 +54,21 @@ def test_hook_passes_a_good_map_and_fails_a_bad_one(tmp_path: Path) -> None:
     good = hook("Good.XODR", "notes.txt")
     assert good.returncode == 0, good.stdout + good.stderr
     assert "xodrlint" in good.stdout and "Passed" in good.stdout
-    bad = hook("bad.xodr")
+    # Eight maps: pre-commit would split them over one xodrlint per core unless the hook
+    # is serial, and each run would print its own note.
+    bad = hook(*BAD)
     assert bad.returncode == 1, bad.stdout + bad.stderr
-    assert "bad.xodr:25: XS006 [error]" in bad.stdout
     assert "Failed" in bad.stdout
+    lines = bad.stdout.splitlines()
+    for name in BAD:
+        assert f"{name}:25: XS006 [error]" in bad.stdout
+    # --quiet keeps the note that only railroad elements were validated, once; no summary
+    assert lines.count(f"note: {FULL_VALIDATION_NOTE}") == 1, bad.stdout
+    assert not [line for line in lines if line.startswith(("Found ", "All checks passed"))]
+
+
+def test_hook_is_serial_because_xodrlint_runs_its_own_workers() -> None:
+    (hook,) = yaml.safe_load((REPO / ".pre-commit-hooks.yaml").read_text("utf-8"))
+    assert hook["id"] == "xodrlint"
+    assert hook["require_serial"] is True
+    assert hook["entry"] == "xodrlint check --quiet"

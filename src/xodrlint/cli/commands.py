@@ -155,7 +155,10 @@ def check(
     quiet: Annotated[
         bool,
         typer.Option(
-            "--quiet", "-q", help="Print findings only, no summary.", rich_help_panel=_OUTPUT
+            "--quiet",
+            "-q",
+            help="Print findings only, no summary (notes of what was not checked stay).",
+            rich_help_panel=_OUTPUT,
         ),
     ] = False,
     verbose: Annotated[

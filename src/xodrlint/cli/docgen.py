@@ -105,7 +105,8 @@ FORMATS_EXAMPLE: Final = "examples/two-findings.xodr"
 SHOWN_ROOT: Final = "file:///path/to/checkout/"
 FORMAT_NOTES: Final = {
     "text": "The default: for people at a terminal (colours only on a terminal).",
-    "concise": "One line per finding, for editors and grep.",
+    "concise": "One line per finding, for editors and grep. The run's notes (what was not "
+    "checked) go to standard error, `xodrlint: note: ...`.",
     "json": "xodrlint's own report; its schema is "
     "[json-output.schema.json](json-output.schema.json).",
     "sarif": "SARIF 2.1.0 for GitHub code scanning. Shown here: the results and the "

@@ -66,8 +66,12 @@ class TextFormatter:
                 self._file(console, report)
         if not self.quiet:
             console.print(_summary(result))
-            for note in [*result.notes, *_schema_notes(result)]:
-                console.print(Text("note: ", style="bold") + Text(one_line(note)))
+        # --quiet (the pre-commit hook) drops the summary and the file facts, not the
+        # run's notes: they say what was not checked (only railroad elements, against the
+        # built-in schema), which a passing hook must not hide.
+        notes = result.notes if self.quiet else (*result.notes, *_schema_notes(result))
+        for note in notes:
+            console.print(Text("note: ", style="bold") + Text(one_line(note)))
 
     def _file(self, console: Console, report: FileReport) -> None:
         if not self.quiet:
