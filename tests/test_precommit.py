@@ -72,3 +72,44 @@ def test_hook_is_serial_because_xodrlint_runs_its_own_workers() -> None:
     assert hook["id"] == "xodrlint"
     assert hook["require_serial"] is True
     assert hook["entry"] == "xodrlint check --quiet"
+
+
+@pytest.mark.skipif(not PRE_COMMIT.exists(), reason="pre-commit is not installed")
+@pytest.mark.skipif(shutil.which("git") is None, reason="git is not installed")
+@pytest.mark.skipif(not (REPO / ".git").exists(), reason="not a git checkout")
+def test_documented_snippet_is_pinned_by_autoupdate(tmp_path: Path) -> None:
+    # docs/ci.md: paste the snippet, run `pre-commit autoupdate`; pre-commit wants a tag
+    # or a SHA. Here against a clone of this repository instead of GitHub (no network).
+    docs = (REPO / "docs" / "ci.md").read_text("utf-8")
+    snippet = docs.split("## pre-commit", 1)[1].split("```yaml\n", 1)[1].split("```", 1)[0]
+    repository = yaml.safe_load(snippet)["repos"][0]["repo"]
+    assert f"pre-commit autoupdate --repo {repository}" in docs
+    upstream, project = tmp_path / "upstream", tmp_path / "project"
+    env = {**os.environ, "PRE_COMMIT_HOME": str(tmp_path / "cache")}
+
+    def run(*command: str, cwd: Path = project) -> str:
+        done = subprocess.run(
+            command, cwd=cwd, env=env, capture_output=True, text=True, check=False
+        )
+        assert done.returncode == 0, done.stdout + done.stderr
+        return done.stdout.strip()
+
+    project.mkdir()
+    run("git", "clone", "-q", str(REPO), str(upstream), cwd=tmp_path)
+    run("git", "init", "-q")
+    config = project / ".pre-commit-config.yaml"
+    config.write_text(snippet.replace(repository, str(upstream)), "utf-8")
+    run(str(PRE_COMMIT), "autoupdate", "--repo", str(upstream))
+    (pinned,) = yaml.safe_load(config.read_text("utf-8"))["repos"]
+    # the newest release tag, or while there is none the newest commit's SHA
+    described = subprocess.run(
+        ["git", "describe", "--tags", "--abbrev=0", "HEAD"],
+        cwd=upstream,
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    head = run("git", "rev-parse", "HEAD", cwd=upstream)
+    assert pinned["rev"] == (described.stdout.strip() if described.returncode == 0 else head)
+    assert [hook["id"] for hook in pinned["hooks"]] == ["xodrlint"]
+    run(str(PRE_COMMIT), "validate-config", str(config))

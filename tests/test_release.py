@@ -1,0 +1,141 @@
+"""The release: the package data pyproject.toml ships, the checks of the built files
+(tests/distributions.py, which .ci/run runs on the real build), and docs/releasing.md
+agreeing with .ci/run and the README."""
+
+from __future__ import annotations
+
+import io
+import re
+import shlex
+import tarfile
+import tomllib
+import zipfile
+from collections.abc import Iterable
+from pathlib import Path
+
+from .conftest import REPO
+from .distributions import (
+    check,
+    main,
+    project_name,
+    sdist_problems,
+    source_version,
+    tracked_files,
+    wheel_problems,
+)
+
+PACKAGE_DIR = REPO / "src" / "xodrlint"
+#: Data files the package cannot work without: its own schemas, the map page, typing.
+ESSENTIAL_DATA = (
+    "xodrlint/py.typed",
+    "xodrlint/validation/builtin/railroad-1.7.xsd",
+    "xodrlint/mapview/map.js",
+)
+TRACKED = tracked_files()
+PACKAGE_FILES = sorted(p.removeprefix("src/") for p in TRACKED if p.startswith("src/xodrlint/"))
+
+
+def _wheel(path: Path, names: Iterable[str], version: str = "9.9.9") -> Path:
+    with zipfile.ZipFile(path, "w") as archive:
+        for name in [*names, f"xodrlint-{version}.dist-info/METADATA"]:
+            archive.writestr(name, "")
+    return path
+
+
+def _sdist(path: Path, names: Iterable[str], version: str = "9.9.9") -> Path:
+    with tarfile.open(path, "w:gz") as archive:
+        for name in [*names, "PKG-INFO"]:
+            archive.addfile(tarfile.TarInfo(f"xodrlint-{version}/{name}"), io.BytesIO(b""))
+    return path
+
+
+def test_package_data_globs_ship_every_data_file_of_the_package() -> None:
+    with (REPO / "pyproject.toml").open("rb") as handle:
+        globs = tomllib.load(handle)["tool"]["setuptools"]["package-data"]["xodrlint"]
+    shipped = {
+        f"xodrlint/{path.relative_to(PACKAGE_DIR).as_posix()}"
+        for pattern in globs
+        for path in PACKAGE_DIR.glob(pattern)
+    }
+    data = {name for name in PACKAGE_FILES if not name.endswith(".py")}
+    assert set(ESSENTIAL_DATA) <= data
+    assert sorted(data - shipped) == [], "add a glob to [tool.setuptools.package-data]"
+
+
+def test_a_wheel_without_package_data_or_with_a_stale_file_is_caught(tmp_path: Path) -> None:
+    complete = _wheel(tmp_path / "complete.whl", PACKAGE_FILES)
+    assert wheel_problems(complete, TRACKED, "xodrlint", "9.9.9") == []
+    kept = [name for name in PACKAGE_FILES if name not in ESSENTIAL_DATA]
+    broken = _wheel(tmp_path / "broken.whl", [*kept, "xodrlint/removed_module.py"])
+    assert wheel_problems(broken, TRACKED, "xodrlint", "9.9.9") == [
+        *(f"broken.whl: lacks {name}" for name in sorted(ESSENTIAL_DATA)),
+        "broken.whl: holds xodrlint/removed_module.py, no file of the package",
+    ]
+
+
+def test_an_sdist_without_the_files_of_the_repository_is_caught(tmp_path: Path) -> None:
+    complete = _sdist(tmp_path / "complete.tar.gz", TRACKED)
+    assert sdist_problems(complete, TRACKED, "xodrlint", "9.9.9") == []
+    left_out = {"tests/conftest.py", "rules/PT002/invalid_one_sided.xodr", "README.md"}
+    assert left_out <= set(TRACKED)
+    partial = _sdist(tmp_path / "partial.tar.gz", [p for p in TRACKED if p not in left_out])
+    assert sdist_problems(partial, TRACKED, "xodrlint", "9.9.9") == [
+        f"partial.tar.gz: lacks {name}" for name in sorted(left_out)
+    ]
+
+
+def test_dist_holds_the_two_files_of_this_version_and_nothing_else(tmp_path: Path) -> None:
+    version = source_version()
+    dist = tmp_path / "dist"
+    dist.mkdir()
+    assert main([str(dist)]) == 1
+    assert check(dist) == [
+        f"{dist}/xodrlint-{version}-py3-none-any.whl: not built",
+        f"{dist}/xodrlint-{version}.tar.gz: not built",
+    ]
+    _wheel(dist / f"xodrlint-{version}-py3-none-any.whl", PACKAGE_FILES, version)
+    _sdist(dist / f"xodrlint-{version}.tar.gz", TRACKED, version)
+    assert check(dist) == []
+    assert main([str(dist)]) == 0
+    (dist / "xodrlint-0.0.1.tar.gz").write_bytes(b"")  # an earlier build: twine would upload it
+    assert check(dist) == [f"{dist}/xodrlint-0.0.1.tar.gz: not of this build"]
+    assert main([str(tmp_path / "nothing")]) == 2
+
+
+def test_the_version_is_written_once() -> None:
+    with (REPO / "pyproject.toml").open("rb") as handle:
+        config = tomllib.load(handle)
+    assert "version" not in config["project"] and "version" in config["project"]["dynamic"]
+    assert config["tool"]["setuptools"]["dynamic"]["version"] == {"attr": "xodrlint.__version__"}
+    from xodrlint import __version__
+
+    assert source_version() == __version__
+    assert project_name() == config["project"]["name"]
+
+
+def _blocks(text: str, language: str) -> list[str]:
+    return re.findall(rf"```{language}\n(.*?)```", text, flags=re.DOTALL)
+
+
+def test_releasing_builds_and_checks_as_ci_does() -> None:
+    releasing = (REPO / "docs" / "releasing.md").read_text("utf-8")
+    build_and_check = releasing.split("## 2. Build and check", 1)[1]
+    commands = _blocks(build_and_check, "sh")[0].splitlines()
+    ci = (REPO / ".ci" / "run").read_text("utf-8").splitlines()
+    assert [command for command in commands if command not in ci] == []
+    assert any("twine check --strict" in command for command in commands)
+    for step in ("git tag -a vX.Y.Z", "twine upload", "CHANGELOG.md", "__version__"):
+        assert step in releasing, step
+
+
+def test_ci_runs_the_readme_set_up_commands() -> None:
+    readme = (REPO / "README.md").read_text("utf-8")
+    ci = (REPO / ".ci" / "run").read_text("utf-8")
+    example, tests = (
+        block.strip() for block in _blocks(readme.split("## Set-up", 1)[1], "sh")[1:3]
+    )
+    assert "xodrlint check examples/" in example
+    install, run_tests = tests.split(" && ")[1:]
+    assert shlex.split(install)[-2:] == ["-e", ".[dev]"]
+    assert "pip install --quiet -e '.[dev]'" in ci
+    assert f"\n{run_tests}\n" in ci
