@@ -152,12 +152,18 @@ def _closed_pipe_run(*args: str | Path) -> subprocess.CompletedProcess[bytes]:
         os.close(writer)
 
 
+def _errors(stderr: bytes) -> bytes:
+    """``stderr`` less the notes ``concise`` prints there (what was not checked)."""
+    lines = stderr.splitlines(keepends=True)
+    return b"".join(line for line in lines if not line.startswith(b"xodrlint: note: "))
+
+
 @pytest.mark.parametrize("output_format", ["text", "concise", "json", "sarif", "junit"])
 def test_a_reader_that_stops_early_is_no_error(output_format: str) -> None:
     clean = _closed_pipe_run("check", "-f", output_format, CLEAN)
-    assert (clean.returncode, clean.stderr) == (0, b"")
+    assert (clean.returncode, _errors(clean.stderr)) == (0, b"")
     broken = _closed_pipe_run("check", "-f", output_format, BROKEN)
-    assert (broken.returncode, broken.stderr) == (1, b"")
+    assert (broken.returncode, _errors(broken.stderr)) == (1, b"")
 
 
 def test_a_reader_that_stops_early_still_gets_the_report_files(tmp_path: Path) -> None:
