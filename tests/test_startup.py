@@ -13,7 +13,8 @@ from .test_cli import CLEAN
 #: Modules only some runs need: XSD 1.1 (OpenDRIVE 1.8 and later), terminal output,
 #: worker pools (-j on many files), forking large documents, plugin scans (cache misses),
 #: the other formats and commands, the table of old import paths, drawing the plan view
-#: (the track-geometry rules evaluate it at switch points and joints only).
+#: (the track-geometry rules evaluate it at switch points and joints only), reading
+#: ignore files (folder walks only).
 NOT_FOR_A_SMALL_JSON_RUN = (
     "xmlschema",
     "elementpath",
@@ -33,6 +34,7 @@ NOT_FOR_A_SMALL_JSON_RUN = (
     "xodrlint.cli.map",
     "xodrlint.workers.forkpool",
     "xodrlint._moved",
+    "pathspec",
 )
 
 _RUN = """

@@ -22,11 +22,16 @@ from xodrlint.engine import Linter, LintOptions
 from xodrlint.files import special_kind
 from xodrlint.findings import FileReport, Severity
 from xodrlint.registry import Registry, load_registry
+from xodrlint.walk import IgnoreFiles, WalkRules
 
 __all__ = ["LintOptions", "Linter", "collect_inputs", "lint_bytes", "lint_file"]
 
 STDIN: Final = "-"
 XODR_SUFFIX: Final = ".xodr"
+#: Why a glob may match nothing where the shell would find files.
+IGNORED_HINT: Final = (
+    " (outside what .gitignore and .ignore files exclude; --no-respect-gitignore lints that too)"
+)
 
 
 @lru_cache(maxsize=1)
@@ -105,10 +110,17 @@ def collect_inputs(
     paths: Iterable[str],
     exclude: Callable[[Path], bool] | None = None,
     max_file_size: int = DEFAULT_MAX_FILE_SIZE,
+    *,
+    respect_gitignore: bool = True,
 ) -> Iterator[Input]:
     """Files as given, folders walked for ``*.xodr`` (sorted, symlinks not followed), and
     glob patterns (``maps/**/*.xodr``) expanded when no such path exists. ``exclude``
     drops files, found or given, that it matches.
+
+    A walk leaves out hidden names and, with ``respect_gitignore``, what ``.gitignore``,
+    ``.ignore`` and ``info/exclude`` exclude (:mod:`xodrlint.walk`); a file named as
+    such is always taken. An ignore file or line that cannot be used comes back as a
+    ``skipped`` note.
 
     Nothing is opened here, but every file is looked at: what could not be read safely
     (larger than ``max_file_size``, a FIFO or device that would block or never end, a
@@ -117,11 +129,12 @@ def collect_inputs(
     """
     # a file named several ways (f, ./f, its absolute path, a link to it) is linted once
     seen: set[tuple[int, int]] = set()
+    ignore_files = IgnoreFiles() if respect_gitignore else None
     for raw in paths:
         if raw == STDIN:
             yield Input(STDIN, is_stdin=True)
             continue
-        for item in _expand(raw, max_file_size):
+        for item in _expand(raw, max_file_size, ignore_files):
             if item.path is not None and exclude is not None and exclude(item.path):
                 continue
             identity = _identity(item)
@@ -142,40 +155,54 @@ def _identity(item: Input) -> tuple[int, int] | None:
     return status.st_dev, status.st_ino
 
 
-def _expand(raw: str, max_file_size: int) -> Iterator[Input]:
+def _expand(raw: str, max_file_size: int, ignore_files: IgnoreFiles | None) -> Iterator[Input]:
     path = Path(raw)
     try:
         status = path.stat()
     except OSError as error:
         if glob.has_magic(raw) and error.errno == errno.ENOENT:
-            yield from _glob(raw, max_file_size)
+            yield from _noted(_glob(raw, max_file_size, ignore_files), ignore_files)
         else:
             yield Input(printable_path(raw), error=f"{printable_path(raw)}: {os_reason(error)}")
         return
     if stat.S_ISDIR(status.st_mode):
-        yield from _walk(path, max_file_size)
+        yield from _noted(_walk(path, max_file_size, ignore_files), ignore_files)
     else:
         yield _checked(raw, path, status, max_file_size, named=True)
 
 
-def _glob(pattern: str, max_file_size: int) -> Iterator[Input]:
+def _noted(walked: Iterator[Input], ignore_files: IgnoreFiles | None) -> Iterator[Input]:
+    """The inputs of a walk, after a note for each ignore file or line it could not use
+    (each said once in a run)."""
+    found = list(walked)
+    if ignore_files is not None:
+        for note in ignore_files.notes:
+            yield Input(printable_path(note), skipped=printable_path(note))
+        ignore_files.notes.clear()
+    yield from found
+
+
+def _glob(pattern: str, max_file_size: int, ignore_files: IgnoreFiles | None) -> Iterator[Input]:
     """The files a glob names, walked from its folder before the first wildcard with
     :func:`os.walk` (folder links not followed: a link loop cannot make it endless) and
     matched in linear time. A folder it names is walked for ``*.xodr``; names starting
-    with a dot are left out unless the pattern names them so, as the shell does."""
+    with a dot are left out unless the pattern names them so, as the shell does, and so
+    is what ignore files exclude (:class:`~xodrlint.walk.WalkRules`)."""
     from xodrlint.config import glob_matches
 
     normalised = pattern.replace("\\", "/")
     parts = normalised.split("/")
     fixed = next(i for i, part in enumerate(parts) if glob.has_magic(part))
     root = "/".join(parts[:fixed]) or ("/" if normalised.startswith("/") else ".")
-    hidden = "/." in "/" + normalised
+    rules = WalkRules(root, ignore_files, hidden="/." in "/" + normalised)
     # without "**" the pattern reaches so many folders below its fixed part, no deeper
     depth = None if "**" in parts[fixed:] else len(parts) - fixed - 1
     found: list[Path] = []
-    for current, folders, files in os.walk(root, followlinks=False):
+    walked = () if rules.top_excluded_by else os.walk(root, followlinks=False)
+    for current, folders, files in walked:
+        rules.enter(current, files)
         below = len(Path(current).relative_to(root).parts)
-        kept = [f for f in folders if hidden or not f.startswith(".")]
+        kept = [f for f in folders if rules.keeps_folder(current, f)]
         if depth is not None and below == depth:  # deeper only into a folder it names
             kept = [
                 f
@@ -189,16 +216,20 @@ def _glob(pattern: str, max_file_size: int) -> Iterator[Input]:
             ]
         folders[:] = sorted(kept)
         for name in files:
-            if not hidden and name.startswith("."):
-                continue
             shown = _shown_as_given(Path(current, name), root, parts[:fixed])
-            if glob_matches(normalised, shown, whole=True, anywhere=False) or (
-                name.lower().endswith(XODR_SUFFIX)
-                and glob_matches(normalised, shown, anywhere=False)
-            ):
+            if (
+                glob_matches(normalised, shown, whole=True, anywhere=False)
+                or (
+                    name.lower().endswith(XODR_SUFFIX)
+                    and glob_matches(normalised, shown, anywhere=False)
+                )
+            ) and rules.keeps_file(current, name):
                 found.append(Path(shown))
     if not found:
-        yield Input(pattern, error=f"{pattern}: no file matches")
+        ignored = rules.top_excluded_by or rules.excluded
+        yield Input(
+            pattern, error=f"{pattern}: no file matches" + (IGNORED_HINT if ignored else "")
+        )
     for path in sorted(found):
         yield _found(path, max_file_size)
 
@@ -209,7 +240,7 @@ def _shown_as_given(path: Path, root: str, fixed: list[str]) -> str:
     return posix[2:] if root == "." and not fixed and posix.startswith("./") else posix
 
 
-def _walk(folder: Path, max_file_size: int) -> Iterator[Input]:
+def _walk(folder: Path, max_file_size: int, ignore_files: IgnoreFiles | None) -> Iterator[Input]:
     found: list[tuple[Path, Input | None]] = []
 
     def unlistable(error: OSError) -> None:
@@ -218,10 +249,20 @@ def _walk(folder: Path, max_file_size: int) -> Iterator[Input]:
         shown = printable_path(where.as_posix())
         found.append((where, Input(shown, error=f"{shown}: cannot list: {os_reason(error)}")))
 
-    for current, folders, files in os.walk(folder, followlinks=False, onerror=unlistable):
-        folders.sort()
+    top = str(folder)
+    rules = WalkRules(top, ignore_files)
+    if rules.top_excluded_by is not None:
+        shown = printable_path(folder.as_posix())
+        why = f"{shown}: skipped, excluded by {printable_path(rules.top_excluded_by)}"
+        yield Input(shown, skipped=why + " (--no-respect-gitignore lints it)")
+        return
+    for current, folders, files in os.walk(top, followlinks=False, onerror=unlistable):
+        rules.enter(current, files)
+        folders[:] = sorted(f for f in folders if rules.keeps_folder(current, f))
         found.extend(
-            (Path(current, name), None) for name in files if name.lower().endswith(XODR_SUFFIX)
+            (Path(current, name), None)
+            for name in files
+            if name.lower().endswith(XODR_SUFFIX) and rules.keeps_file(current, name)
         )
     for path, problem in sorted(found, key=lambda item: item[0]):
         yield problem or _found(path, max_file_size)

@@ -99,6 +99,8 @@ class Settings:
     sarif_max_results: int = DEFAULT_SARIF_MAX_RESULTS
     """At most this many results in a SARIF log, the most important; 0: no limit."""
     exclude: tuple[str, ...] = ()
+    respect_gitignore: bool = True
+    """Whether folder walks leave out what .gitignore, .ignore and info/exclude exclude."""
     rule_options: Mapping[str, float] = field(default_factory=dict)
     warn_unused_suppressions: bool = False
     max_file_size: int = DEFAULT_MAX_FILE_SIZE
@@ -132,6 +134,7 @@ class Settings:
             ("output-format", self.output_format, self.source_of("output-format")),
             ("sarif-max-results", self.sarif_max_results, self.source_of("sarif-max-results")),
             ("exclude", list(self.exclude), self.source_of("exclude")),
+            ("respect-gitignore", self.respect_gitignore, self.source_of("respect-gitignore")),
             (
                 "warn-unused-suppressions",
                 self.warn_unused_suppressions,
@@ -249,6 +252,7 @@ _READERS: Final[Mapping[str, _Reader]] = {
     "output-format": _text,
     "sarif-max-results": _count,
     "exclude": _strings,
+    "respect-gitignore": _boolean,
     "warn-unused-suppressions": _boolean,
     "max-file-size": parse_size,
     "rule-timeout": seconds,
@@ -292,6 +296,7 @@ def settings_from(
         output_format=str(_get(values, "output-format", "text")),
         sarif_max_results=int(_get(values, "sarif-max-results", DEFAULT_SARIF_MAX_RESULTS)),
         exclude=tuple(_get(values, "exclude", ())),
+        respect_gitignore=bool(values.get("respect-gitignore", True)),
         rule_options={name: float(values[name]) for name in options if name in values},  # type: ignore[arg-type]
         warn_unused_suppressions=bool(values.get("warn-unused-suppressions", False)),
         max_file_size=int(_get(values, "max-file-size", DEFAULT_MAX_FILE_SIZE)),

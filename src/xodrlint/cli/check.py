@@ -6,7 +6,7 @@ from __future__ import annotations
 import json
 import sys
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Final, NamedTuple, TextIO
 
@@ -14,7 +14,6 @@ from xodrlint import __version__
 from xodrlint.api import (
     STDIN,
     Input,
-    collect_inputs,
     default_registry,
     exit_code,
     os_reason,
@@ -22,6 +21,7 @@ from xodrlint.api import (
     too_large,
 )
 from xodrlint.baseline import BaselineError
+from xodrlint.cli.inputs import collect, show_files
 from xodrlint.cli.reports import (
     ExtraReport,
     OutputRefused,
@@ -89,6 +89,8 @@ class CheckRequest(NamedTuple):
     config: Path | None = None
     isolated: bool = False
     exclude: tuple[str, ...] | None = None
+    respect_gitignore: bool | None = None
+    show_files: bool = False
     jobs: int | None = None
     baseline: Path | None = None
     write_baseline: Path | None = None
@@ -147,6 +149,7 @@ def _overrides(request: CheckRequest) -> dict[str, object]:
         "output-format": request.output_format,
         "sarif-max-results": request.sarif_max_results,
         "exclude": request.exclude,
+        "respect-gitignore": request.respect_gitignore,
         "warn-unused-suppressions": request.warn_unused_suppressions,
         "max-file-size": _max_file_size(request.max_file_size),
         "rule-timeout": request.rule_timeout,
@@ -177,7 +180,10 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
         ]
         if request.statistics:
             check_statistics_format(settings.output_format)
-        inputs = _inputs(request, settings)
+        _check_stdin(request)
+        inputs = collect(request.paths, settings)
+        if request.show_files:
+            return show_files(inputs, request.stdin_filename)
         _check_targets(request, settings, inputs, extra)
         recorded = None
         if request.baseline is not None:
@@ -316,12 +322,6 @@ def _formatter(
         ) from None
 
 
-def _excluder(settings: Settings) -> Callable[[Path], bool] | None:
-    if not settings.exclude:
-        return None
-    return lambda path: any_match(settings.exclude, path, settings.base)
-
-
 def _lint(
     linter: Linter, settings: Settings, inputs: list[Input], request: CheckRequest
 ) -> list[FileReport]:
@@ -354,22 +354,13 @@ def _jobs(request: CheckRequest) -> int:
     return request.jobs if request.jobs is not None else default_jobs()
 
 
-def _inputs(request: CheckRequest, settings: Settings) -> list[Input]:
-    """What to lint; files a folder walk met but cannot lint (a FIFO, a device) are left
-    out with a note on stderr."""
+def _check_stdin(request: CheckRequest) -> None:
     name = request.stdin_filename
     if name is not None and printable_path(name) != name:
         shown = printable_path(name)
         raise UsageError(f"--stdin-filename {shown}: the name is not valid UTF-8")
     if request.paths.count(STDIN) > 1:
         raise UsageError(f"{STDIN} (standard input) is given more than once")
-    inputs = []
-    for item in collect_inputs(request.paths, _excluder(settings), settings.max_file_size):
-        if item.skipped is not None:
-            error_line(f"note: {item.skipped}")
-        else:
-            inputs.append(item)
-    return inputs
 
 
 #: Standard input is read in pieces this large, so that a limit of gigabytes is never

@@ -209,6 +209,23 @@ def check(
         list[str] | None,
         typer.Option(help="Glob patterns of files to skip.", rich_help_panel=_CONFIG),
     ] = None,
+    respect_gitignore: Annotated[
+        bool | None,
+        typer.Option(
+            "--respect-gitignore/--no-respect-gitignore",
+            help="Leave out of folder walks what .gitignore, .ignore and .git/info/exclude "
+            "exclude (default: respect them).",
+            rich_help_panel=_CONFIG,
+        ),
+    ] = None,
+    show_files: Annotated[
+        bool,
+        typer.Option(
+            "--show-files",
+            help="Print the files that would be linted, one per line, and exit.",
+            rich_help_panel=_CONFIG,
+        ),
+    ] = False,
     jobs: Annotated[
         int | None,
         typer.Option(
@@ -322,6 +339,8 @@ def check(
             config=config,
             isolated=isolated,
             exclude=_split(exclude) or None,
+            respect_gitignore=respect_gitignore,
+            show_files=show_files,
             jobs=jobs,
             baseline=baseline,
             write_baseline=write_baseline,

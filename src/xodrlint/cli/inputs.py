@@ -1,0 +1,64 @@
+"""``xodrlint check``'s inputs: what the paths on its command line name, after
+``exclude`` and the ignore files, and ``--show-files``, which lists them and stops."""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import sys
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+from xodrlint.api import STDIN, Input, collect_inputs, os_reason
+from xodrlint.config import Settings, any_match
+from xodrlint.messages import one_line
+from xodrlint.output import error_line
+
+
+def collect(paths: Sequence[str], settings: Settings) -> list[Input]:
+    """What to lint; files a folder walk met but cannot lint (a FIFO, a device) are left
+    out with a note on stderr."""
+    inputs = []
+    found = collect_inputs(
+        paths,
+        _excluder(settings),
+        settings.max_file_size,
+        respect_gitignore=settings.respect_gitignore,
+    )
+    for item in found:
+        if item.skipped is not None:
+            error_line(f"note: {item.skipped}")
+        else:
+            inputs.append(item)
+    return inputs
+
+
+def _excluder(settings: Settings) -> Callable[[Path], bool] | None:
+    if not settings.exclude:
+        return None
+    return lambda path: any_match(settings.exclude, path, settings.base)
+
+
+def show_files(inputs: list[Input], stdin_filename: str | None) -> int:
+    """``--show-files``: the files a check would lint, in its order and named as its
+    reports name them; what it could not read is a line on stderr and exit 2."""
+    for item in inputs:
+        if item.error is not None:
+            error_line(one_line(item.error))
+    names = [
+        (stdin_filename or STDIN) if item.is_stdin else item.display
+        for item in inputs
+        if item.error is None
+    ]
+    try:
+        sys.stdout.write("".join(f"{name}\n" for name in names))
+        sys.stdout.flush()
+    except BrokenPipeError:
+        # a reader that stopped early (| head) has what it wanted; as Python's docs
+        # advise, the rest goes to devnull, so the flush at exit fails no more
+        with contextlib.suppress(OSError, ValueError):
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    except OSError as error:
+        error_line(f"standard output: cannot write: {os_reason(error)}")
+        return 2
+    return 2 if any(item.error for item in inputs) else 0
