@@ -1,5 +1,6 @@
 """Folder walks follow .gitignore, .ignore, info/exclude and hidden names as git and ruff
-do (issue 19, item 7); ``--show-files`` lists what a check would lint.
+do (issue 19, item 7); ``--show-files`` lists what a check would lint; a run that finds
+nothing to lint says so (item 11).
 
 The repositories here are folders with a ``.git`` folder made by hand: the walk needs no
 git. Where git is installed, one test compares the walk with git's own answer."""
@@ -148,6 +149,7 @@ def test_an_excluded_folder_named_on_the_command_line_is_skipped_with_a_note(
     assert result.stderr.splitlines() == [
         f"xodrlint: note: {repo}/build/deep: skipped, excluded by {repo}/.gitignore "
         "(--no-respect-gitignore lints it)",
+        f"xodrlint: warning: no .xodr files found under {repo}/build/deep",
     ]
     again = run("check", repo / "build", "--show-files", "--no-respect-gitignore")
     assert shown(again) == [f"{repo}/build/deep/more.xodr", f"{repo}/build/out.xodr"]
@@ -385,3 +387,37 @@ def test_the_walk_lists_what_git_lists(tmp_path: Path, ignores: dict[str, str]) 
     )
     expected = sorted(f"{repo}/{name}" for name in listed.stdout.splitlines())
     assert sorted(shown(run("check", repo, "--show-files"))) == expected
+
+
+# --- nothing to lint (item 11) -----------------------------------------------------------
+
+
+def test_an_empty_folder_is_a_warning_exit_0_and_an_empty_report(tmp_path: Path) -> None:
+    (tmp_path / "empty").mkdir()
+    report = tmp_path / "report.json"
+    result = run("check", tmp_path / "empty", "-f", "json", "-o", report)
+    assert result.exit_code == 0
+    assert result.stderr == f"xodrlint: warning: no .xodr files found under {tmp_path}/empty\n"
+    document = json.loads(report.read_text("utf-8"))
+    assert (document["files"], document["summary"]["files"]) == ([], 0)
+    text = run("check", tmp_path / "empty")
+    assert "All checks passed: 0 files" in text.stdout
+
+
+def test_everything_excluded_or_ignored_is_the_same_warning(repo: Path) -> None:
+    excluded = run("check", repo / "maps" / "sub", "--exclude", "b.xodr")
+    named = run("check", repo / "maps" / "sub" / "scratch.xodr", repo / "build")
+    assert excluded.exit_code == 0
+    assert excluded.stderr == f"xodrlint: warning: no .xodr files found under {repo}/maps/sub\n"
+    assert named.exit_code == 0  # a file named is linted: no warning
+    assert "no .xodr files found" not in named.stderr
+    nothing = run("check", repo / "build", repo / "maps" / "sub", "--exclude", "b.xodr", "-q")
+    assert nothing.stderr.splitlines()[-1] == (
+        f"xodrlint: warning: no .xodr files found under {repo}/build {repo}/maps/sub"
+    )
+
+
+def test_a_missing_path_is_an_error_not_the_warning(tmp_path: Path) -> None:
+    result = run("check", tmp_path / "gone")
+    assert result.exit_code == 2
+    assert result.stderr == f"xodrlint: {tmp_path}/gone: no such file or directory\n"

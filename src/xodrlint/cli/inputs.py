@@ -9,7 +9,7 @@ import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
-from xodrlint.api import STDIN, Input, collect_inputs, os_reason
+from xodrlint.api import STDIN, Input, collect_inputs, os_reason, printable_path
 from xodrlint.config import Settings, any_match
 from xodrlint.messages import one_line
 from xodrlint.output import error_line
@@ -17,7 +17,8 @@ from xodrlint.output import error_line
 
 def collect(paths: Sequence[str], settings: Settings) -> list[Input]:
     """What to lint; files a folder walk met but cannot lint (a FIFO, a device) are left
-    out with a note on stderr."""
+    out with a note on stderr, and a warning says when nothing at all is left (exit 0,
+    as ruff: an empty folder is no error)."""
     inputs = []
     found = collect_inputs(
         paths,
@@ -30,6 +31,9 @@ def collect(paths: Sequence[str], settings: Settings) -> list[Input]:
             error_line(f"note: {item.skipped}")
         else:
             inputs.append(item)
+    if not inputs:
+        named = " ".join(printable_path(path) for path in paths)
+        error_line(f"warning: no .xodr files found under {named}")
     return inputs
 
 
