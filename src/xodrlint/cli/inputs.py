@@ -3,16 +3,13 @@
 
 from __future__ import annotations
 
-import contextlib
-import os
-import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from xodrlint.api import STDIN, Input, collect_inputs, os_reason, printable_path
 from xodrlint.config import Settings, any_match
 from xodrlint.messages import one_line
-from xodrlint.output import error_line
+from xodrlint.output import error_line, release_stdout, write_output
 
 
 def collect(paths: Sequence[str], settings: Settings) -> list[Input]:
@@ -55,13 +52,9 @@ def show_files(inputs: list[Input], stdin_filename: str | None) -> int:
         if item.error is None
     ]
     try:
-        sys.stdout.write("".join(f"{name}\n" for name in names))
-        sys.stdout.flush()
-    except BrokenPipeError:
-        # a reader that stopped early (| head) has what it wanted; as Python's docs
-        # advise, the rest goes to devnull, so the flush at exit fails no more
-        with contextlib.suppress(OSError, ValueError):
-            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        write_output(None, lambda stream: stream.writelines(f"{name}\n" for name in names))
+    except BrokenPipeError:  # a reader that stopped early (| head) has what it wanted
+        release_stdout()
     except OSError as error:
         error_line(f"standard output: cannot write: {os_reason(error)}")
         return 2
