@@ -141,33 +141,39 @@ def test_a_walk_below_the_top_reads_the_ignore_files_above(repo: Path) -> None:
     assert shown(run("check", repo / "maps" / "sub", "--show-files")) == [f"{repo}/maps/sub/b.xodr"]
 
 
-def test_an_excluded_folder_named_on_the_command_line_is_skipped_with_a_note(
-    repo: Path,
-) -> None:
-    result = run("check", repo / "build" / "deep")
-    assert result.exit_code == 0, result.output
-    assert result.stderr.splitlines() == [
-        f"xodrlint: note: {repo}/build/deep: skipped, excluded by {repo}/.gitignore "
-        "(--no-respect-gitignore lints it)",
-        f"xodrlint: warning: no .xodr files found under {repo}/build/deep",
+def test_an_excluded_folder_named_on_the_command_line_is_linted(repo: Path) -> None:
+    # named, it is walked as ripgrep and ruff walk it: the ignore files above do not apply
+    assert shown(run("check", repo / "build", "--show-files")) == [
+        f"{repo}/build/deep/more.xodr",
+        f"{repo}/build/out.xodr",
     ]
-    again = run("check", repo / "build", "--show-files", "--no-respect-gitignore")
-    assert shown(again) == [f"{repo}/build/deep/more.xodr", f"{repo}/build/out.xodr"]
+    result = run("check", repo / "build" / "deep", "-f", "json")
+    assert result.exit_code == 0, result.output
+    assert result.stderr == ""
+    assert [f["path"] for f in json.loads(result.stdout)["files"]] == [
+        f"{repo}/build/deep/more.xodr"
+    ]
+    # a glob that starts from it, too
+    assert shown(run("check", f"{repo}/build/*.xodr", "--show-files")) == [f"{repo}/build/out.xodr"]
 
 
-def test_notes_name_ignore_files_as_the_command_line_named_the_folder(
+def test_the_ignore_files_inside_a_named_excluded_folder_still_apply(repo: Path) -> None:
+    (repo / "build" / ".gitignore").write_text("deep/\n", "utf-8")
+    assert shown(run("check", repo / "build", "--show-files")) == [f"{repo}/build/out.xodr"]
+    every = run("check", repo / "build", "--show-files", "--no-respect-gitignore")
+    assert shown(every) == [f"{repo}/build/deep/more.xodr", f"{repo}/build/out.xodr"]
+
+
+def test_a_walk_from_the_top_leaves_the_excluded_folder_out(
     repo: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    monkeypatch.chdir(repo / "maps")
-    assert run("check", "../build").stderr.splitlines()[0] == (
-        "xodrlint: note: ../build: skipped, excluded by ../.gitignore "
-        "(--no-respect-gitignore lints it)"
-    )
-    # the example in docs/configuration.md is this run's real output
-    monkeypatch.chdir(repo)
-    page = (REPO / "docs" / "configuration.md").read_text("utf-8")
-    example = page.split("`xodrlint check build` says", 1)[1].split("```text\n", 1)[1]
-    assert run("check", "build").stderr == example.split("```", 1)[0]
+    assert not [path for path in shown(run("check", repo, "--show-files")) if "/build/" in path]
+    monkeypatch.chdir(repo / "maps")  # the repository's ignore files apply from below too
+    assert "../build/out.xodr" not in shown(run("check", "..", "--show-files"))
+    assert shown(run("check", "../build", "--show-files")) == [
+        "../build/deep/more.xodr",
+        "../build/out.xodr",
+    ]
 
 
 def test_globs_follow_the_ignore_files(repo: Path) -> None:
@@ -176,14 +182,14 @@ def test_globs_follow_the_ignore_files(repo: Path) -> None:
         f"{repo}/maps/a.xodr",
         f"{repo}/maps/sub/b.xodr",
     ]
-    result = run("check", f"{repo}/build/**/*.xodr")
+    result = run("check", f"{repo}/maps/**/draft.xodr")  # maps/.ignore names it
     assert result.exit_code == 2
     assert result.stderr == (
-        f"xodrlint: {repo}/build/**/*.xodr: no file matches (outside what .gitignore and "
+        f"xodrlint: {repo}/maps/**/draft.xodr: no file matches (outside what .gitignore and "
         ".ignore files exclude; --no-respect-gitignore lints that too)\n"
     )
-    every = run("check", f"{repo}/build/**/*.xodr", "--show-files", "--no-respect-gitignore")
-    assert shown(every) == [f"{repo}/build/deep/more.xodr", f"{repo}/build/out.xodr"]
+    every = run("check", f"{repo}/maps/**/draft.xodr", "--show-files", "--no-respect-gitignore")
+    assert shown(every) == [f"{repo}/maps/draft.xodr"]
 
 
 @pytest.mark.parametrize(
@@ -318,15 +324,11 @@ def test_ignore_files_that_cannot_be_used_are_notes_never_a_hang(tmp_path: Path)
 
 
 def test_the_python_api_respects_ignore_files_unless_told(repo: Path) -> None:
-    build = str(repo / "build")
-    assert [(item.path, item.skipped) for item in collect_inputs([build])] == [
-        (
-            None,
-            f"{build}: skipped, excluded by {repo}/.gitignore (--no-respect-gitignore lints it)",
-        )
-    ]
-    every = collect_inputs([build], respect_gitignore=False)
-    assert [item.path for item in every] == [repo / "build/deep/more.xodr", repo / "build/out.xodr"]
+    assert not [i for i in collect_inputs([str(repo)]) if i.path and "build" in i.path.parts]
+    every = collect_inputs([str(repo)], respect_gitignore=False)
+    assert repo / "build/out.xodr" in [item.path for item in every]
+    named = collect_inputs([str(repo / "build")])
+    assert [item.path for item in named] == [repo / "build/deep/more.xodr", repo / "build/out.xodr"]
 
 
 # --- the walk against git itself --------------------------------------------------------
@@ -411,9 +413,10 @@ def test_everything_excluded_or_ignored_is_the_same_warning(repo: Path) -> None:
     assert excluded.stderr == f"xodrlint: warning: no .xodr files found under {repo}/maps/sub\n"
     assert named.exit_code == 0  # a file named is linted: no warning
     assert "no .xodr files found" not in named.stderr
-    nothing = run("check", repo / "build", repo / "maps" / "sub", "--exclude", "b.xodr", "-q")
+    (repo / "empty").mkdir()
+    nothing = run("check", repo / "empty", repo / "maps" / "sub", "--exclude", "b.xodr", "-q")
     assert nothing.stderr.splitlines()[-1] == (
-        f"xodrlint: warning: no .xodr files found under {repo}/build {repo}/maps/sub"
+        f"xodrlint: warning: no .xodr files found under {repo}/empty {repo}/maps/sub"
     )
 
 

@@ -198,8 +198,7 @@ def _glob(pattern: str, max_file_size: int, ignore_files: IgnoreFiles | None) ->
     # without "**" the pattern reaches so many folders below its fixed part, no deeper
     depth = None if "**" in parts[fixed:] else len(parts) - fixed - 1
     found: list[Path] = []
-    walked = () if rules.top_excluded_by else os.walk(root, followlinks=False)
-    for current, folders, files in walked:
+    for current, folders, files in os.walk(root, followlinks=False):
         rules.enter(current, files)
         below = len(Path(current).relative_to(root).parts)
         kept = [f for f in folders if rules.keeps_folder(current, f)]
@@ -226,9 +225,8 @@ def _glob(pattern: str, max_file_size: int, ignore_files: IgnoreFiles | None) ->
             ) and rules.keeps_file(current, name):
                 found.append(Path(shown))
     if not found:
-        ignored = rules.top_excluded_by or rules.excluded
         yield Input(
-            pattern, error=f"{pattern}: no file matches" + (IGNORED_HINT if ignored else "")
+            pattern, error=f"{pattern}: no file matches" + (IGNORED_HINT if rules.excluded else "")
         )
     for path in sorted(found):
         yield _found(path, max_file_size)
@@ -251,11 +249,6 @@ def _walk(folder: Path, max_file_size: int, ignore_files: IgnoreFiles | None) ->
 
     top = str(folder)
     rules = WalkRules(top, ignore_files)
-    if rules.top_excluded_by is not None:
-        shown = printable_path(folder.as_posix())
-        why = f"{shown}: skipped, excluded by {printable_path(rules.top_excluded_by)}"
-        yield Input(shown, skipped=why + " (--no-respect-gitignore lints it)")
-        return
     for current, folders, files in os.walk(top, followlinks=False, onerror=unlistable):
         rules.enter(current, files)
         folders[:] = sorted(f for f in folders if rules.keeps_folder(current, f))

@@ -173,14 +173,14 @@ class WalkRules:
     :func:`os.walk` yields (top first) before asking about what it holds, by the names
     ``os.walk`` gives: ``os.path.join(current, name)`` is the next ``current``.
 
-    ``top`` itself was named on the command line: its name is never hidden, but a folder
-    an ignore file above it excludes is excluded whole (:attr:`top_excluded_by`), as git
-    does (``git ls-files --others --exclude-standard build/``)."""
+    ``top`` itself was named on the command line, and a path named there is always
+    linted: its name is never hidden, and where an ignore file above it excludes it
+    (``xodrlint check build`` with ``build/`` in ``.gitignore``) it is walked as ripgrep
+    and ruff walk it, with the ignore files inside it only."""
 
     def __init__(self, top: str, files: IgnoreFiles | None, *, hidden: bool = False) -> None:
         self.hidden = hidden
         self.files = files
-        self.top_excluded_by: str | None = None
         self.excluded = 0
         """Folders and files left out by ignore files (hidden ones not counted)."""
         self._where: dict[str, tuple[str, _Chain]] = {}
@@ -189,7 +189,8 @@ class WalkRules:
 
     def _above(self, top: Path, files: IgnoreFiles) -> tuple[str, _Chain]:
         """The path of ``top`` below the repository's top, and the ignore files of the
-        folders above it (excluding ``top``: that is :attr:`top_excluded_by`)."""
+        folders above it; none where one of them excludes ``top`` or a folder above it
+        (what it excludes there, every path below, was named on the command line)."""
         real = top.resolve()
         found = next((f for f in (real, *real.parents) if (f / ".git").exists()), None)
         if found is None:
@@ -205,8 +206,7 @@ class WalkRules:
             relative += name + "/"
             verdict = _verdict(chain, relative[:-1], folder=True)
             if verdict is not None and verdict[0]:
-                self.top_excluded_by = verdict[1]
-                break
+                chain = _NO_CHAIN
         return relative, chain
 
     def enter(self, current: str, names: list[str]) -> None:
