@@ -22,7 +22,7 @@ from typer.testing import CliRunner, Result
 from xodrlint import __version__
 from xodrlint.api import default_registry
 from xodrlint.cli import app
-from xodrlint.cli.check import FULL_VALIDATION_NOTE
+from xodrlint.cli.notes import FULL_VALIDATION_NOTE
 from xodrlint.validation.store import install_wheel
 
 from .conftest import REPO
@@ -693,7 +693,7 @@ def test_schemas_fetch_without_pip_says_how_to_fetch_by_hand(
 
 
 def test_a_19_file_without_its_set_is_told_where_the_set_comes_from() -> None:
-    from xodrlint.cli.check import FULL_VALIDATION_NOTE, run_notes
+    from xodrlint.cli.notes import FULL_VALIDATION_NOTE, run_notes
     from xodrlint.findings import FileReport
 
     old = FileReport("a.xodr", declared_version="1.7", schema="built-in", schema_builtin=True)

@@ -23,7 +23,7 @@ from typer.testing import CliRunner
 from xodrlint import __version__
 from xodrlint.api import default_registry
 from xodrlint.cli import app
-from xodrlint.cli.check import FULL_VALIDATION_NOTE
+from xodrlint.cli.notes import FULL_VALIDATION_NOTE
 from xodrlint.engine import Linter, LintOptions
 from xodrlint.findings import (
     FileReport,

@@ -35,7 +35,7 @@ MOVED_MODULES: Final[Mapping[str, tuple[str, ...]]] = {
     "xodrlint.forkpool": ("xodrlint.workers.forkpool",),
     "xodrlint.batch": ("xodrlint.workers.batch",),
     "xodrlint.profile": ("xodrlint.model.lane_profiles",),
-    "xodrlint.check": ("xodrlint.cli.check",),
+    "xodrlint.check": ("xodrlint.cli.check", "xodrlint.cli.notes", "xodrlint.cli.inputs"),
     "xodrlint.qc": ("xodrlint.cli.qc",),
     "xodrlint.docgen": ("xodrlint.cli.docgen",),
     "xodrlint.run": ("xodrlint.cli.rules", "xodrlint.cli.schemas", "xodrlint.cli.config"),

@@ -8,7 +8,7 @@ import sys
 import time
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Final, NamedTuple, TextIO
+from typing import NamedTuple, TextIO
 
 from xodrlint import __version__
 from xodrlint.api import (
@@ -18,10 +18,10 @@ from xodrlint.api import (
     exit_code,
     os_reason,
     printable_path,
-    too_large,
 )
 from xodrlint.baseline import BaselineError
-from xodrlint.cli.inputs import collect, show_files
+from xodrlint.cli.inputs import collect, read_stdin, show_files
+from xodrlint.cli.notes import run_notes
 from xodrlint.cli.reports import (
     ExtraReport,
     OutputRefused,
@@ -42,7 +42,6 @@ from xodrlint.config import (
     read_config,
     settings_from,
 )
-from xodrlint.document import Version, nearest_published
 from xodrlint.engine import (
     Linter,
     LintOptions,
@@ -56,18 +55,8 @@ from xodrlint.formatters import Formatter, available, get_formatter, warnings_of
 from xodrlint.messages import one_line
 from xodrlint.output import error_line, write_output
 from xodrlint.registry import Registry
-from xodrlint.validation.sets import SCHEMA_PATH_ENV, Origin, SchemaLoadError
+from xodrlint.validation.sets import Origin, SchemaLoadError
 from xodrlint.workers.batch import Task, default_jobs, lint_tasks
-
-#: The newest version whose official set ``xodrlint schemas fetch`` brings, and where
-#: ASAM publishes the others.
-LAST_FETCHED: Final = (1, 8)
-ASAM_DOWNLOADS: Final = "https://www.asam.net/standards/detail/opendrive/"
-FULL_VALIDATION_NOTE: Final = (
-    "only railroad elements were validated (built-in schema); for full OpenDRIVE "
-    f"validation run 'xodrlint schemas fetch', or point {SCHEMA_PATH_ENV} or --schema at "
-    "the official ASAM schemas"
-)
 
 
 class CheckRequest(NamedTuple):
@@ -326,7 +315,7 @@ def _lint(
     linter: Linter, settings: Settings, inputs: list[Input], request: CheckRequest
 ) -> list[FileReport]:
     stdin, unreadable = (
-        _read_stdin(settings.max_file_size) if any(i.is_stdin for i in inputs) else (b"", None)
+        read_stdin(settings.max_file_size) if any(i.is_stdin for i in inputs) else (b"", None)
     )
     tasks = [
         Task(item.path, item.display, _per_file_ignores(settings, item.path))
@@ -363,31 +352,6 @@ def _check_stdin(request: CheckRequest) -> None:
         raise UsageError(f"{STDIN} (standard input) is given more than once")
 
 
-#: Standard input is read in pieces this large, so that a limit of gigabytes is never
-#: allocated up front.
-STDIN_CHUNK: Final = 1024 * 1024
-
-
-def _read_stdin(limit: int) -> tuple[bytes, str | None]:
-    """Standard input, at most ``limit`` bytes: (contents, why it cannot be linted)."""
-    if sys.stdin is None:  # started with standard input closed
-        return b"", f"{STDIN}: cannot read standard input: it is closed"
-    pieces: list[bytes] = []
-    size = 0
-    try:
-        while size <= limit:
-            piece = sys.stdin.buffer.read(min(STDIN_CHUNK, limit + 1 - size))
-            if not piece:
-                break
-            pieces.append(piece)
-            size += len(piece)
-    except (OSError, ValueError) as error:  # a closed or unreadable stream
-        return b"", f"{STDIN}: cannot read standard input: {error}"
-    if size > limit:
-        return b"", too_large(STDIN, limit)
-    return b"".join(pieces), None
-
-
 def _per_file_ignores(settings: Settings, path: Path) -> tuple[tuple[str, str], ...]:
     where = f"per-file-ignores in {settings.config_file or 'the command line'}"
     return tuple(
@@ -415,34 +379,6 @@ def _check_targets(
         targets += [(report.flag, report.path) for report, _ in extra]
         read["the baseline"] = request.baseline
     check_targets(targets, (item.path for item in inputs if item.path is not None), read)
-
-
-def run_notes(reports: list[FileReport]) -> tuple[str, ...]:
-    """What a run says of files the built-in schema alone validated: where the official
-    set of their version comes from (``schemas fetch`` brings 1.1 to 1.8.0, not 1.9)."""
-    versions = {_published(r.declared_version) for r in reports if r.schema_builtin}
-    notes = []
-    if any(version is None or version <= LAST_FETCHED for version in versions):
-        notes.append(FULL_VALIDATION_NOTE)
-    later = sorted(v for v in versions if v is not None and v > LAST_FETCHED)
-    if later:
-        named = ", ".join(f"{major}.{minor}" for major, minor in later)
-        notes.append(
-            "only railroad elements were validated (built-in schema): "
-            f"no official schema for OpenDRIVE {named} was found, and 'xodrlint schemas "
-            f"fetch' brings sets up to {LAST_FETCHED[0]}.{LAST_FETCHED[1]}.0 only: download "
-            f"it from ASAM ({ASAM_DOWNLOADS}) and add it with 'xodrlint schemas add PATH', "
-            f"or point {SCHEMA_PATH_ENV} or --schema at it"
-        )
-    return tuple(notes)
-
-
-def _published(declared: str | None) -> tuple[int, int] | None:
-    major, _, minor = (declared or "").partition(".")
-    if not (major.isdigit() and minor.isdigit()):
-        return None
-    found = nearest_published(Version(int(major), int(minor)))
-    return found.major, found.minor
 
 
 def _write_baseline(path: Path, reports: list[FileReport], root: str) -> int:

@@ -143,7 +143,7 @@ def formats_page(root: Path) -> str:
     import json
 
     from xodrlint import __version__
-    from xodrlint.cli.check import run_notes
+    from xodrlint.cli.notes import run_notes
     from xodrlint.engine import Linter, LintOptions
     from xodrlint.formatters import get_formatter
     from xodrlint.registry import load_registry

@@ -3,10 +3,12 @@
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import Final
 
-from xodrlint.api import STDIN, Input, collect_inputs, os_reason, printable_path
+from xodrlint.api import STDIN, Input, collect_inputs, os_reason, printable_path, too_large
 from xodrlint.config import Settings, any_match
 from xodrlint.messages import one_line
 from xodrlint.output import error_line, release_stdout, write_output
@@ -59,3 +61,28 @@ def show_files(inputs: list[Input], stdin_filename: str | None) -> int:
         error_line(f"standard output: cannot write: {os_reason(error)}")
         return 2
     return 2 if any(item.error for item in inputs) else 0
+
+
+#: Standard input is read in pieces this large, so that a limit of gigabytes is never
+#: allocated up front.
+STDIN_CHUNK: Final = 1024 * 1024
+
+
+def read_stdin(limit: int) -> tuple[bytes, str | None]:
+    """Standard input, at most ``limit`` bytes: (contents, why it cannot be linted)."""
+    if sys.stdin is None:  # started with standard input closed
+        return b"", f"{STDIN}: cannot read standard input: it is closed"
+    pieces: list[bytes] = []
+    size = 0
+    try:
+        while size <= limit:
+            piece = sys.stdin.buffer.read(min(STDIN_CHUNK, limit + 1 - size))
+            if not piece:
+                break
+            pieces.append(piece)
+            size += len(piece)
+    except (OSError, ValueError) as error:  # a closed or unreadable stream
+        return b"", f"{STDIN}: cannot read standard input: {error}"
+    if size > limit:
+        return b"", too_large(STDIN, limit)
+    return b"".join(pieces), None

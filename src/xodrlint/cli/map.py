@@ -19,7 +19,8 @@ from typing import Final, TextIO
 
 from xodrlint import __version__
 from xodrlint.api import default_registry, exit_code
-from xodrlint.cli.check import CheckRequest, UsageError, prepare_linter, run_notes
+from xodrlint.cli.check import CheckRequest, UsageError, prepare_linter
+from xodrlint.cli.notes import run_notes
 from xodrlint.config import ConfigError
 from xodrlint.document import Document, load_bytes
 from xodrlint.engine import OptionError, SelectorError
