@@ -116,6 +116,8 @@ def test_validation_beside_the_rules_gives_the_same_findings(
     beside_rules = Linter(default_registry(), LintOptions(schema=schema)).lint_path(path)
     assert used == [beside]
     assert beside_rules.findings == alone.findings
+    # hits a child sent back are stamped here with their element's line and column
+    assert all(f.column is not None for f in beside_rules.findings)
     assert beside_rules.schema == alone.schema
 
 

@@ -51,6 +51,9 @@ def test_output_is_identical_whatever_the_number_of_jobs(tmp_path: Path, pool_ki
     assert one.exit_code == two.exit_code == 1
     assert one.stdout == two.stdout
     assert len(json.loads(one.stdout)["files"]) == len(CASES)
+    # the workers' findings carry the column of their element's start tag too
+    placed = [f for f in json.loads(two.stdout)["findings"] if f["xpath"] != "/"]
+    assert placed and all(isinstance(f["column"], int) for f in placed)
     assert one.stderr == two.stderr == ""  # no progress bar when stderr is not a terminal
 
 

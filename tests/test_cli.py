@@ -40,6 +40,8 @@ BROKEN_FINDINGS = [
     (62, "ST004", "/OpenDRIVE/station[@id='500']/platform[@id='501']/segment"),
     (62, "XS006", "/OpenDRIVE/station[@id='500']/platform[@id='501']/segment"),
 ]
+#: Their columns: where the '<' of each finding's element stands on its line.
+BROKEN_COLUMNS = [7, 7, 9, 11, 7, 7]
 # Rich must see a pipe, never a forced terminal, whatever the developer's shell sets.
 PLAIN_ENV: dict[str, str | None] = {"FORCE_COLOR": None, "TTY_COMPATIBLE": None, "NO_COLOR": None}
 # A stand-in for an official ASAM OpenDRIVE schema: one global OpenDRIVE, any content.
@@ -98,7 +100,7 @@ def test_missing_file_is_exit_2_and_the_other_paths_are_still_linted(tmp_path: P
     result = cli("check", missing, BROKEN, code=2)
     assert result.stderr.splitlines() == [f"xodrlint: {missing}: no such file or directory"]
     assert "Traceback" not in result.output
-    assert f"{BROKEN}:25: XS006 [error]" in result.stdout
+    assert f"{BROKEN}:25:7: XS006 [error]" in result.stdout
     assert "1 could not be read." in result.stdout
 
 
@@ -129,9 +131,10 @@ def test_a_schema_that_does_not_compile_is_exit_2(tmp_path: Path) -> None:
 def test_json_report_of_broken_example() -> None:
     document = report(BROKEN, code=1)
     assert [(f["line"], f["code"], f["xpath"]) for f in document["findings"]] == BROKEN_FINDINGS
+    assert [f["column"] for f in document["findings"]] == BROKEN_COLUMNS
     schema_findings = [f for f in document["findings"] if f["code"] == "XS006"]
     assert {(f["column"], f["path"], f["severity"], f["uid"]) for f in schema_findings} == {
-        (None, str(BROKEN), "error", "asam.net:xodr:1.0.0:xml.valid_schema")
+        (7, str(BROKEN), "error", "asam.net:xodr:1.0.0:xml.valid_schema")
     }
     assert document["findings"][0]["message"] == (
         "'switch/@position' is 'sideways', expected one of 'dynamic', 'straight', 'turn'"
@@ -184,7 +187,7 @@ def test_text_report_when_piped_is_plain_and_unwrapped(tmp_path: Path) -> None:
     long_file = write_variant(tmp_path / "long.xodr", BROKEN, "sideways", value)
     out = cli("check", long_file, code=1, NO_COLOR="1", COLUMNS="40").stdout
     message = f"'switch/@position' is '{value}', expected one of 'dynamic', 'straight', 'turn'"
-    assert f"{long_file}:25: XS006 [error] {message}\n" in out
+    assert f"{long_file}:25:7: XS006 [error] {message}\n" in out
     assert "\n    /OpenDRIVE/road[@id='1']/railroad/switch[@id='101']\n" in out
     assert "\n    /OpenDRIVE/station[@id='500']/platform[@id='501']/segment\n" in out
     assert "Found 6 findings (5 errors, 1 warning) in 1 of 1 file.\n" in out
@@ -200,7 +203,8 @@ def test_quiet_prints_finding_lines_and_the_note_of_what_was_not_checked(
     note = f"note: {FULL_VALIDATION_NOTE}"
     *findings, last = cli("check", BROKEN, "--quiet", code=1).stdout.splitlines()
     assert [line.split(" [")[0] for line in findings] == [
-        f"{BROKEN}:{line}: {code}" for line, code, _ in BROKEN_FINDINGS
+        f"{BROKEN}:{line}:{column}: {code}"
+        for (line, code, _), column in zip(BROKEN_FINDINGS, BROKEN_COLUMNS, strict=True)
     ]
     assert last == note
     assert cli("check", CLEAN, "-q", code=0).stdout == note + "\n"
@@ -225,7 +229,7 @@ def test_output_writes_the_report_to_a_file(tmp_path: Path, output_format: str) 
     if output_format == "json":
         jsonschema.validate(json.loads(written), OUTPUT_SCHEMA)
     else:
-        assert f"{BROKEN}:30: XS006 [error]" in written
+        assert f"{BROKEN}:30:7: XS006 [error]" in written
     assert [p.name for p in tmp_path.iterdir()] == ["report.out"]  # no temp file left
 
 
@@ -269,7 +273,7 @@ def test_stdin_is_reported_under_stdin_filename() -> None:
     assert [f["path"] for f in document["files"]] == ["maps/x.xodr"]
     assert {f["path"] for f in document["findings"]} == {"maps/x.xodr"}
     out = cli("check", *args, "-q", code=1, stdin=BROKEN.read_bytes()).stdout
-    assert out.startswith("maps/x.xodr:25: XS006 [error] ")
+    assert out.startswith("maps/x.xodr:25:7: XS006 [error] ")
 
 
 def test_folders_are_walked_for_xodr_files_in_sorted_order(tmp_path: Path) -> None:
@@ -530,7 +534,7 @@ def console(*args: str | Path) -> subprocess.CompletedProcess[str]:
 def test_console_script_exit_codes_and_one_line_errors(tmp_path: Path) -> None:
     broken = console("check", BROKEN, "-q")
     assert broken.returncode == 1
-    assert broken.stdout.splitlines()[0].startswith(f"{BROKEN}:25: XS006 [error] ")
+    assert broken.stdout.splitlines()[0].startswith(f"{BROKEN}:25:7: XS006 [error] ")
     missing = console("check", tmp_path / "missing.xodr", CLEAN)
     assert missing.returncode == 2
     assert missing.stderr == f"xodrlint: {tmp_path / 'missing.xodr'}: no such file or directory\n"

@@ -53,6 +53,8 @@ BROKEN_LINES = [
     (62, "ST004"),
     (62, "XS006"),
 ]
+#: The column of each of those findings: where the '<' of its element stands.
+BROKEN_COLUMNS = [7, 7, 9, 11, 7, 7]
 FINGERPRINT_KEY = "xodrlint/v1"
 SRCROOT = "%SRCROOT%"
 GITLAB_SEVERITIES = {"info", "minor", "major", "critical", "blocker"}
@@ -259,6 +261,7 @@ def test_sarif_results_of_the_broken_example() -> None:
     assert [
         (r["locations"][0]["physicalLocation"]["region"]["startLine"], r["ruleId"]) for r in results
     ] == BROKEN_LINES
+    assert [f.column for f in result.findings] == BROKEN_COLUMNS
     for entry, found in zip(results, result.findings, strict=True):
         assert rules[entry["ruleIndex"]]["id"] == entry["ruleId"] == found.code
         assert entry["level"] == {"error": "error", "warning": "warning"}[found.severity]
@@ -268,7 +271,7 @@ def test_sarif_results_of_the_broken_example() -> None:
             "uri": "examples/broken.xodr",
             "uriBaseId": SRCROOT,
         }
-        assert "startColumn" not in location["physicalLocation"]["region"]
+        assert location["physicalLocation"]["region"]["startColumn"] == found.column
         assert location["logicalLocations"] == [
             {"fullyQualifiedName": found.xpath, "kind": "element"}
         ]
@@ -463,11 +466,11 @@ def test_github_annotations_for_the_broken_example() -> None:
     lines = render("github", lint(BROKEN)).splitlines()
     assert len(lines) == 6
     assert lines[0] == (
-        "::error file=examples/broken.xodr,line=25,title=XS006 schema-violation::"
+        "::error file=examples/broken.xodr,line=25,col=7,title=XS006 schema-violation::"
         "'switch/@position' is 'sideways', expected one of 'dynamic', 'straight', 'turn'"
     )
     assert lines[2].startswith(
-        "::warning file=examples/broken.xodr,line=32,title=SW006 side-track-not-at-end::"
+        "::warning file=examples/broken.xodr,line=32,col=9,title=SW006 side-track-not-at-end::"
     )
     assert [line.split(" ", 1)[0] for line in lines] == [
         "::error",
@@ -557,7 +560,7 @@ def test_junit_counts_and_cases(tmp_path: Path) -> None:
     first = next(iter(broken))
     assert isinstance(first, TestCase)
     assert (first.name, first.classname) == (
-        f"XS006 line 25 {result.findings[0].xpath}",
+        f"XS006 line 25 col 7 {result.findings[0].xpath}",
         "examples/broken.xodr",
     )
     (failure,) = first.result
@@ -669,11 +672,14 @@ def test_concise_lines() -> None:
     result = lint(BROKEN, REPO / "nonexistent-input.xodr", CLEAN)
     lines = render("concise", result).splitlines()
     assert lines == [
-        f"{f.path}:{f.line}: {f.code} [{f.severity}] {f.message}" for f in result.findings
+        f"{f.path}:{f.line}:{f.column}: {f.code} [{f.severity}] {f.message}"
+        for f in result.findings
     ]
-    assert len(lines) == 6
+    assert [f.column for f in result.findings] == BROKEN_COLUMNS
     multiline = one_report(finding(message="first\nsecond", related=(Location(1, "/"),)))
     assert render("concise", multiline) == ("net.xodr:3: SW007 [error] first second\n")
+    placed = one_report(finding(column=12))
+    assert render("concise", placed).startswith("net.xodr:3:12: SW007 [error] ")
 
 
 @pytest.mark.parametrize("quiet", [(), ("--quiet",)], ids=["default", "quiet"])
@@ -734,7 +740,7 @@ def test_cli_concise(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.chdir(REPO)
     out = cli("check", "-f", "concise", "examples/broken.xodr", code=1)
     assert out.splitlines()[0] == (
-        "examples/broken.xodr:25: XS006 [error] "
+        "examples/broken.xodr:25:7: XS006 [error] "
         "'switch/@position' is 'sideways', expected one of 'dynamic', 'straight', 'turn'"
     )
     assert len(out.splitlines()) == 6

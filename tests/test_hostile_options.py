@@ -108,4 +108,4 @@ def test_control_characters_in_file_names_reach_the_terminal_escaped(
     done = _xodrlint("check", "-f", output_format, "--show-source", named)
     assert done.returncode == 1
     assert "\x1b" not in done.stdout and "\x07" not in done.stdout
-    assert "b\\x1b[31mred\\x07.xodr:25: XS006" in done.stdout
+    assert "b\\x1b[31mred\\x07.xodr:25:7: XS006" in done.stdout

@@ -59,7 +59,7 @@ def _on_a_terminal(*args: str | Path, **env: str) -> bytes:
 def test_a_terminal_gets_styles_and_no_color_takes_every_one_away() -> None:
     assert STYLE.search(_on_a_terminal("check", BROKEN))
     plain = _on_a_terminal("check", BROKEN, NO_COLOR="1")
-    assert b"examples/broken.xodr:25: XS006" in plain
+    assert b"examples/broken.xodr:25:7: XS006" in plain
     assert not STYLE.search(plain)  # no bold, dim or underline either
     assert not STYLE.search(_on_a_terminal("check", BROKEN, "--color", "never"))
 

@@ -15,6 +15,7 @@ from lxml import etree
 
 from xodrlint.findings import Hit
 from xodrlint.messages import readable_parser_message
+from xodrlint.positions import SourcePositions
 
 #: ASAM's pre-1.6 namespace; files using it are read as if un-namespaced.
 ASAM_LEGACY_NAMESPACE: Final = "http://code.asam.net/simulation/standard/opendrive_schema"
@@ -25,9 +26,6 @@ LEGACY_NAMESPACES: Final = frozenset({ASAM_LEGACY_NAMESPACE, VIRES_NAMESPACE})
 
 #: The minor versions of OpenDRIVE 1.x that ASAM has published.
 KNOWN_MINORS: Final = range(1, 10)
-
-#: libxml2 stores an element's line in 16 bits; from this value on ``sourceline`` is a guess.
-_LIBXML2_LINE_CAP: Final = 65535
 
 
 def hardened_parser() -> etree.XMLParser:
@@ -90,7 +88,13 @@ class Document:
 
     def line_of(self, element: etree._Element) -> int:
         """The exact line of ``element``'s start tag (where its ``<`` stands)."""
-        return self._start_lines.line_of(element)
+        return self._positions.line_of(element)
+
+    def position_of(self, element: etree._Element) -> tuple[int, int | None]:
+        """The exact line and column (1-based, in characters) of ``element``'s ``<``; the
+        column is ``None`` where it cannot be known exactly (see
+        :class:`~xodrlint.positions.SourcePositions`)."""
+        return self._positions.position_of(element)
 
     def source_line(self, line: int) -> str | None:
         """The text of ``line`` (1-based), decoded as the document declares."""
@@ -118,9 +122,10 @@ class Document:
         return self._xpaths.element_at(self.tree.getroot(), xpath)
 
     @cached_property
-    def _start_lines(self) -> _StartTagLines:
+    def _positions(self) -> SourcePositions:
+        # made on the first question: a clean map never pays for the scan
         assert self.tree is not None, "line_of needs a parsed tree"
-        return _StartTagLines(self.data, self.tree.getroot())
+        return SourcePositions(self.data, self.tree.getroot(), self.tree.docinfo.encoding)
 
     @cached_property
     def _xpaths(self) -> _ReadableXPaths:
@@ -234,12 +239,6 @@ def _version_number(doc: Document, header: etree._Element, attribute: str) -> in
     return int(text)
 
 
-def parser_line(element: etree._Element) -> int:
-    """libxml2's line for ``element`` (exact below 65,535; where the start tag ends)."""
-    line: object = element.sourceline
-    return line if isinstance(line, int) and line > 0 else 1
-
-
 def nearest_published(version: Version) -> Version:
     """The published OpenDRIVE version closest to ``version`` (itself if published)."""
     if version.major < 1:
@@ -248,76 +247,6 @@ def nearest_published(version: Version) -> Version:
         return Version(1, KNOWN_MINORS[-1])
     minor = min(max(version.minor, KNOWN_MINORS[0]), KNOWN_MINORS[-1])
     return Version(1, minor)
-
-
-# Start tags, told apart from the markup that may contain a '<' without being one.
-_MARKUP: Final = re.compile(
-    rb"<!--.*?-->|<!\[CDATA\[.*?\]\]>|<\?.*?\?>|<!DOCTYPE[^\[>]*(?:\[.*?\]\s*)?>|<(?=[^/!?])",
-    re.DOTALL,
-)
-
-
-class _StartTagLines:
-    """Exact start-tag lines, read off the bytes.
-
-    libxml2 keeps lines in 16 bits (guessing past 65,535) and reports the line where a
-    start tag *ends*. Scanning the bytes once for start tags, in document order, gives the
-    line of every element's ``<`` exactly; it only runs for files that have findings.
-    """
-
-    def __init__(self, data: bytes, root: etree._Element) -> None:
-        text = _ascii_compatible(data)
-        lines: list[int] = []
-        line, position = 1, 0
-        count = text.count
-        for match in _MARKUP.finditer(text):
-            start = match.start()
-            if match.end() - start == 1:
-                line += count(b"\n", position, start)
-                position = start
-                lines.append(line)
-        elements = root.iter(etree.Element)
-        self._lines: dict[etree._Element, int] = dict(zip(elements, lines, strict=False))
-
-    def line_of(self, element: etree._Element) -> int:
-        line = self._lines.get(element)
-        if line is not None:
-            return line
-        # Only reached for an element the scan could not place (markup it does not
-        # model); libxml2's own figure is the best left.
-        return parser_line(element)
-
-
-def _ascii_compatible(data: bytes) -> bytes:
-    """``data`` in an encoding where '<' and newline are single bytes, lone CRs dropped.
-
-    libxml2 counts "\\r\\n" as one line break and a lone "\\r" as none; the scan does too.
-    """
-    if data[:2] in (b"\xff\xfe", b"\xfe\xff") or (len(data) > 1 and b"\x00" in data[:4]):
-        data = _decode_wide(data).encode("utf-8", "surrogatepass")
-    return data.replace(b"\r\n", b"\n") if b"\r" in data else data
-
-
-def _decode_wide(data: bytes) -> str:
-    """UTF-16 or UTF-32 text; without a byte order mark, the zero bytes of '<' tell the
-    byte order ("<\\0" little-endian, "\\0<" big-endian), as libxml2 reads it."""
-    head = data[:4]
-    if head.count(b"\x00") == 3:
-        codecs: tuple[str, ...] = ("utf-32",) if head in _UTF32_BOMS else ()
-        codecs += ("utf-32-be",) if head[:1] == b"\x00" else ("utf-32-le",)
-    elif head[:2] in (b"\xff\xfe", b"\xfe\xff"):
-        codecs = ("utf-16",)
-    else:
-        codecs = ("utf-16-be",) if head[:1] == b"\x00" else ("utf-16-le",)
-    for codec in codecs:
-        try:
-            return data.decode(codec)
-        except UnicodeDecodeError:
-            continue
-    return data.decode(codecs[-1], errors="replace")
-
-
-_UTF32_BOMS: Final = (b"\xff\xfe\x00\x00", b"\x00\x00\xfe\xff")
 
 
 class _ReadableXPaths:

@@ -2,7 +2,7 @@
 
 The engine is the one place that knows the rules, the document and the options together:
 it selects rules by code prefix, runs the schema stage when XS006 is selected, builds the
-model once, stamps code, UID, severity, path, line and XPath on every hit, applies the
+model once, stamps code, UID, severity, path, line, column and XPath on every hit, applies the
 one-defect-one-finding policy and sorts.
 """
 
@@ -416,10 +416,11 @@ class Linter:
     def _stamp(self, doc: Document, candidate: Rule, hit: Hit) -> _Stamped:
         meta = candidate.meta
         if hit.element is not None and doc.tree is not None:
-            line = hit.line or doc.line_of(hit.element)
+            # a hit may name its own place (XL001: the comment, about the element after it)
+            line, column = (hit.line, hit.column) if hit.line else doc.position_of(hit.element)
             xpath = doc.xpath_of(hit.element)
         else:
-            line, xpath = hit.line or 1, DOCUMENT_XPATH
+            line, column, xpath = hit.line or 1, hit.column, DOCUMENT_XPATH
         severity = self.options.severity.get(meta.code, meta.severity)
         related = tuple(Location(doc.line_of(el), doc.xpath_of(el)) for el in hit.related)
         message = one_line(hit.message)  # messages quote values a map may fill with anything
@@ -428,7 +429,7 @@ class Linter:
         finding = Finding(
             path=doc.path,
             line=line,
-            column=hit.column,
+            column=column,
             code=meta.code,
             uid=meta.uid,
             severity=severity,

@@ -1,4 +1,9 @@
-"""Positions of elements in a tree, found in time that does not grow with their siblings.
+"""Positions of elements: in their tree, and in the source they were read from.
+
+:class:`SourcePositions` gives the exact line and column of an element's start tag:
+every finding's position, and what an editor's diagnostic range starts from.
+:class:`TreePositions` finds elements in a tree in time that does not grow with their
+siblings.
 
 lxml's ``parent.index(child)``, ``parent[i]`` and an XPath step such as ``road[1234]``
 walk the siblings every time they are asked: n findings about the children of one
@@ -10,6 +15,9 @@ libxml2 error paths of the schema stage and the child indices a forked validator
 
 from __future__ import annotations
 
+import codecs
+import enum
+import functools
 import re
 from typing import Final
 
@@ -104,3 +112,259 @@ class TreePositions:
                 if isinstance(tag, str) and not tag.startswith("{"):
                     named.setdefault(tag, []).append(child)
         return named
+
+
+# --- where an element stands in the source ---------------------------------------------
+
+#: libxml2 stores an element's line in 16 bits: from this value on ``sourceline`` is a
+#: guess, and below it names the line where the start tag *ends* (its ``>``).
+LIBXML2_LINE_CAP: Final = 65535
+
+# Start tags, told apart from the markup that may contain a '<' without being one. A
+# '<' cannot stand in an attribute value or in text of well-formed XML (the parser
+# refuses it), so comments, CDATA sections, processing instructions and the document
+# type declaration are all that hide one.
+_MARKUP: Final = re.compile(
+    rb"<!--.*?-->|<!\[CDATA\[.*?\]\]>|<\?.*?\?>|<!DOCTYPE[^\[>]*(?:\[.*?\]\s*)?>|<(?=[^/!?])",
+    re.DOTALL,
+)
+#: The qualified name after a start tag's '<' (the parser has checked it already), and
+#: the bytes that may follow a name.
+_QNAME: Final = re.compile(rb"[^\s/>]+")
+_NAME_ENDS: Final = frozenset((b" ", b"\t", b"\n", b"\r", b"/", b">"))
+#: Newline counts and continuation-byte counts are kept per block of this many bytes.
+_BLOCK: Final = 4096
+#: UTF-8 continuation bytes: a character is every byte but these.
+_CONTINUATION: Final = bytes(range(0x80, 0xC0))
+#: Codecs that shift between states: a run of bytes in the middle of a line cannot be
+#: decoded on its own, and a '<' byte may be half of a character.
+_STATEFUL: Final = frozenset({"utf-7", "hz"})
+
+
+def parser_line(node: etree._Element) -> int:
+    """libxml2's line for ``node`` (exact below 65,535; where the start tag ends)."""
+    line: object = node.sourceline
+    return line if isinstance(line, int) and line > 0 else 1
+
+
+class SourcePositions:
+    """Where each element's start tag begins in the source: the line and the column of
+    its ``<``, both 1-based, the column in characters (Unicode code points, as SARIF's
+    ``unicodeCodePoints`` and editors count them).
+
+    libxml2 keeps lines in 16 bits (guessing past 65,535), reports the line where a start
+    tag *ends*, and no column at all. One scan of the bytes finds every start tag in
+    document order, and the k-th element of the tree is the k-th start tag; the scan runs
+    once a document has something to report. A line and its start are then found through
+    an index of newlines per 4 KiB block, and a column counts the characters between the
+    two, so a lookup costs the same on a minified one-line map as on a pretty one.
+
+    A position is never a guess: where the scan and the tree disagree (a number of start
+    tags that differs from the number of elements, a start tag of another name), the
+    line is libxml2's and the column ``None``; so is the column of a file in an encoding
+    whose characters cannot be counted from the middle of a line (UTF-7, ISO-2022).
+    """
+
+    def __init__(self, data: bytes, root: etree._Element, encoding: str | None) -> None:
+        text, widened = _ascii_compatible(data)
+        self._text = text
+        # a wide file was re-encoded as UTF-8 for the scan; a narrow one is in its own
+        self._encoding = "utf-8" if widened else (encoding or "utf-8")
+        starts = [
+            match.start() for match in _MARKUP.finditer(text) if match.end() - match.start() == 1
+        ]
+        try:
+            self._offsets = dict(zip(root.iter(etree.Element), starts, strict=True))
+        except ValueError:  # the scan misread some markup: trust none of it
+            self._offsets = {}
+        self._names: dict[str, bytes] = {}
+        self._blocks: _Blocks | None = None
+        self._counting: _Counting | None = None
+
+    def line_of(self, node: etree._Element) -> int:
+        """The line of ``node``'s ``<``; libxml2's line where the scan has none."""
+        offset = self._offset(node)
+        return parser_line(node) if offset is None else self._locate(offset)[0]
+
+    def position_of(self, node: etree._Element) -> tuple[int, int | None]:
+        """``(line, column)`` of ``node``'s ``<``; the column is ``None`` where it cannot
+        be known exactly (a comment, a processing instruction, an encoding whose
+        characters cannot be counted, markup the scan could not place)."""
+        offset = self._offset(node)
+        if offset is None:
+            return parser_line(node), None
+        line, line_start = self._locate(offset)
+        return line, self._column(line_start, offset)
+
+    def _offset(self, node: etree._Element) -> int | None:
+        """Where ``node``'s start tag begins in the scanned text, checked against its name."""
+        offset = self._offsets.get(node)
+        if offset is None:
+            return None
+        tag = node.tag
+        name = self._names.get(tag) if isinstance(tag, str) else None
+        if name is None:
+            name = self._name(tag)
+        text = self._text
+        end = offset + 1 + len(name)
+        if text.startswith(name, offset + 1) and text[end : end + 1] in _NAME_ENDS:
+            return offset  # the common case, a name without a prefix: no regular expression
+        found = _QNAME.match(text, offset + 1)
+        return offset if name and found and found[0].rpartition(b":")[2] == name else None
+
+    def _name(self, tag: object) -> bytes:
+        """A tag's local name as the scanned text spells it (empty where it cannot)."""
+        if not isinstance(tag, str):
+            return b""
+        local = tag.rpartition("}")[2]
+        try:
+            name = local.encode("ascii" if local.isascii() else self._encoding)
+        except (LookupError, UnicodeError):
+            name = b""
+        self._names[tag] = name
+        return name
+
+    def _locate(self, offset: int) -> tuple[int, int]:
+        if self._blocks is None:
+            self._blocks = _Blocks(self._text)
+        return self._blocks.locate(offset)
+
+    def _column(self, line_start: int, offset: int) -> int | None:
+        if line_start == 0 and self._text.startswith(codecs.BOM_UTF8):
+            line_start = len(codecs.BOM_UTF8)  # a byte order mark is no character
+        if self._counting is None:
+            self._counting = _counting(self._text, self._encoding)
+        blocks = self._blocks
+        assert blocks is not None  # made by _locate
+        if self._counting is _Counting.BYTES:
+            return offset - line_start + 1
+        if self._counting is _Counting.UTF8:
+            return offset - line_start - blocks.continuations(line_start, offset) + 1
+        if self._counting is _Counting.DECODE:
+            try:
+                return len(self._text[line_start:offset].decode(self._encoding)) + 1
+            except (LookupError, UnicodeError):
+                return None
+        return None
+
+
+class _Counting(enum.Enum):
+    """How characters are counted in the scanned text."""
+
+    BYTES = "one byte, one character"
+    UTF8 = "every byte but UTF-8 continuation bytes"
+    DECODE = "decode the run of bytes"
+    NONE = "not at all"
+
+
+def _counting(text: bytes, encoding: str) -> _Counting:
+    try:
+        name = codecs.lookup(encoding).name
+    except LookupError:
+        return _Counting.NONE
+    if name in ("utf-8", "utf-8-sig"):
+        return _Counting.BYTES if text.isascii() else _Counting.UTF8
+    if name in _STATEFUL or name.startswith("iso2022") or not _ascii_safe(name):
+        return _Counting.NONE
+    return _Counting.BYTES if text.isascii() or _single_byte(name) else _Counting.DECODE
+
+
+@functools.cache
+def _ascii_safe(codec: str) -> bool:
+    """Whether ``codec`` writes ASCII as ASCII, so that the scan's '<' and newlines are
+    characters of their own (not so in UTF-16 or EBCDIC)."""
+    sample = "".join(map(chr, range(128)))
+    try:
+        return sample.encode(codec) == sample.encode("ascii")
+    except UnicodeError:
+        return False
+
+
+@functools.cache
+def _single_byte(codec: str) -> bool:
+    """Whether every byte of ``codec`` is a character of its own (ISO-8859-*, cp125*)."""
+    return len(bytes(range(256)).decode(codec, errors="replace")) == 256
+
+
+class _Blocks:
+    """Newlines and UTF-8 continuation bytes counted per block of the scanned text,
+    made on the first lookup: a line, a line's start and a run's characters then cost
+    at most a block's scan each."""
+
+    def __init__(self, text: bytes) -> None:
+        self._text = text
+        newlines_before = [0]
+        last_newline = [-1]  # the offset of the last newline before each block
+        count, rfind = text.count, text.rfind
+        for start in range(0, len(text), _BLOCK):
+            found = count(b"\n", start, start + _BLOCK)
+            newlines_before.append(newlines_before[-1] + found)
+            last_newline.append(rfind(b"\n", start, start + _BLOCK) if found else last_newline[-1])
+        self._newlines_before = newlines_before
+        self._last_newline = last_newline
+        self._continuations_before: list[int] | None = None
+
+    def locate(self, offset: int) -> tuple[int, int]:
+        """The line of ``offset`` and the offset at which that line starts."""
+        block = offset // _BLOCK
+        start = block * _BLOCK
+        line = self._newlines_before[block] + self._text.count(b"\n", start, offset) + 1
+        newline = self._text.rfind(b"\n", start, offset)
+        if newline < 0:
+            newline = self._last_newline[block]
+        return line, newline + 1
+
+    def continuations(self, start: int, end: int) -> int:
+        """The UTF-8 continuation bytes in ``text[start:end]``."""
+        if end - start <= 2 * _BLOCK:
+            return _continuations(self._text[start:end])
+        return self._continuations_up_to(end) - self._continuations_up_to(start)
+
+    def _continuations_up_to(self, offset: int) -> int:
+        table = self._continuations_before
+        if table is None:
+            table = [0]
+            for start in range(0, len(self._text), _BLOCK):
+                table.append(table[-1] + _continuations(self._text[start : start + _BLOCK]))
+            self._continuations_before = table
+        block = offset // _BLOCK
+        return table[block] + _continuations(self._text[block * _BLOCK : offset])
+
+
+def _continuations(run: bytes) -> int:
+    return len(run) - len(run.translate(None, _CONTINUATION))
+
+
+def _ascii_compatible(data: bytes) -> tuple[bytes, bool]:
+    """``data`` in an encoding where '<' and newline are single bytes, the CR of each CRLF
+    dropped, and whether it had to be re-encoded (from UTF-16 or UTF-32, as UTF-8) to be
+    so.
+
+    libxml2 counts "\\r\\n" as one line break and a lone "\\r" as none; the scan does too.
+    """
+    widened = data[:2] in (b"\xff\xfe", b"\xfe\xff") or (len(data) > 1 and b"\x00" in data[:4])
+    if widened:
+        data = _decode_wide(data).encode("utf-8", "surrogatepass")
+    return (data.replace(b"\r\n", b"\n") if b"\r" in data else data), widened
+
+
+def _decode_wide(data: bytes) -> str:
+    """UTF-16 or UTF-32 text; without a byte order mark, the zero bytes of '<' tell the
+    byte order ("<\\0" little-endian, "\\0<" big-endian), as libxml2 reads it."""
+    head = data[:4]
+    if head.count(b"\x00") == 3:
+        candidates: tuple[str, ...] = ("utf-32",) if head in _UTF32_BOMS else ()
+        candidates += ("utf-32-be",) if head[:1] == b"\x00" else ("utf-32-le",)
+    elif head[:2] in (b"\xff\xfe", b"\xfe\xff"):
+        candidates = ("utf-16",)
+    else:
+        candidates = ("utf-16-be",) if head[:1] == b"\x00" else ("utf-16-le",)
+    for codec in candidates:
+        try:
+            return data.decode(codec)
+        except UnicodeDecodeError:
+            continue
+    return data.decode(candidates[-1], errors="replace")
+
+
+_UTF32_BOMS: Final = (b"\xff\xfe\x00\x00", b"\x00\x00\xfe\xff")

@@ -1,4 +1,5 @@
-"""One line per finding, ``path:line: CODE [severity] message``, for editors and grep.
+"""One line per finding, ``path:line:column: CODE [severity] message``, for editors and
+grep (``path:line: ...`` where a finding has no column: a parse error libxml2 gave none).
 
 Nothing else in the report: no summary. The run's notes (what was not checked: only
 railroad elements, against the built-in schema) go to stderr after the findings, as
@@ -33,7 +34,8 @@ class ConciseFormatter:
 
 
 def line(finding: Finding) -> str:
+    column = "" if finding.column is None else f":{finding.column}"
     return (
-        f"{one_line(finding.path)}:{finding.line}: {finding.code} "
+        f"{one_line(finding.path)}:{finding.line}{column}: {finding.code} "
         f"[{finding.severity}] {single_line(finding.message)}"
     )

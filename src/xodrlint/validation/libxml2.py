@@ -15,9 +15,9 @@ from typing import Final
 
 from lxml import etree
 
-from xodrlint.document import Document, parser_line
+from xodrlint.document import Document
 from xodrlint.findings import Hit
-from xodrlint.positions import TreePositions
+from xodrlint.positions import TreePositions, parser_line
 from xodrlint.validation.libxml2_direct import SchemaError, direct_schema
 from xodrlint.validation.messages import Explained, TypeCatalog, explain_libxml2
 from xodrlint.validation.sets import SchemaLoadError, SchemaSet
