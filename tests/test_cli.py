@@ -374,7 +374,7 @@ def test_schemas_add_installs_an_official_set(
     installed = isolated_schemas / "schemas" / "1.7.0"
     assert cli("schemas", "list", code=0).stdout.startswith("no official schemas found\n")
     out = cli("schemas", "add", source, code=0).stdout
-    assert out == f"added OpenDRIVE 1.7.0 (1 files) to {installed}\n"
+    assert out == f"added OpenDRIVE 1.7.0 (1 file) to {installed}\n"
     assert [p.name for p in installed.iterdir()] == ["opendrive_core.xsd"]
     assert (installed / "opendrive_core.xsd").read_text("utf-8") == STUB_XSD
 

@@ -38,6 +38,7 @@ from xodrlint.findings import (
 from xodrlint.formatters import BUILTIN, available, get_formatter
 from xodrlint.formatters.github import escape_data, escape_property
 from xodrlint.formatters.sarif import plain_text, rule_descriptor
+from xodrlint.messages import plural
 
 from .conftest import REPO
 
@@ -769,3 +770,27 @@ def test_json_is_written_as_the_indenting_encoder_writes_it() -> None:
     for result in (linted._replace(reports=(*linted.reports, extra)), empty):
         expected = json.dumps(as_document(result), indent=2, ensure_ascii=False) + "\n"
         assert render("json", result) == expected
+
+
+def test_text_summary_counts_in_the_singular_for_one() -> None:
+    two_info = one_report(finding(severity=Severity.INFO), finding(severity=Severity.INFO, line=7))
+    assert render("text", two_info).splitlines()[-1] == "Found 2 findings (2 info) in 1 of 1 file."
+    mixed_counts = one_report(finding(), finding(severity=Severity.WARNING, line=7))
+    assert render("text", mixed_counts).splitlines()[-1] == (
+        "Found 2 findings (1 error, 1 warning) in 1 of 1 file."
+    )
+
+
+@pytest.mark.parametrize(
+    ("count", "noun", "nouns", "expected"),
+    [
+        (0, "file", None, "0 files"),
+        (1, "file", None, "1 file"),
+        (2, "file", None, "2 files"),
+        (1, "switch", "switches", "1 switch"),
+        (3, "switch", "switches", "3 switches"),
+        (2, "info", "info", "2 info"),
+    ],
+)
+def test_plural(count: int, noun: str, nouns: str | None, expected: str) -> None:
+    assert plural(count, noun, nouns) == expected

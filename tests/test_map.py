@@ -73,6 +73,15 @@ def test_map_of_the_broken_example_has_every_thing_and_finding(tmp_path: Path) -
     findings = data["findings"]
     assert isinstance(findings, list)
     assert [(f["line"], f["code"], f["xpath"]) for f in findings] == BROKEN_FINDINGS
+    # a count of one takes the singular: "1 platform segment", "1 finding"
+    assert result.stderr.endswith(
+        ": 2 roads, 2 switches, 1 platform segment, 6 of 6 findings placed, 0 items not drawn\n"
+    )
+    one = tmp_path / "one.xodr"
+    one.write_text(BROKEN.read_text("utf-8").replace('sEnd="240"', 'sEnd="200"'), "utf-8")
+    assert cli("map", one, "-o", out, "--select", "ST004,SW00", code=1).stderr.endswith(
+        ": 2 roads, 2 switches, 1 platform segment, 1 of 1 finding placed, 0 items not drawn\n"
+    )
 
 
 def test_the_map_parses_and_models_its_file_once(

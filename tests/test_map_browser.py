@@ -93,6 +93,10 @@ def test_markers_selection_pan_zoom_search_and_screenshot(
     counts = [_count(browser, f"#map {css}") for css in (".switch-mark", ".platform", ".finding")]
     assert counts == [2, 1, 6]
     assert _count(browser, "#findings-table tbody tr") == 6
+    assert browser.find_element(By.ID, "summary").text == (
+        "2 roads, 2 track pieces, 2 switches, 1 platform segment. "
+        "6 findings (5 errors, 1 warning, 0 info)."
+    )
 
     # a row centres the view on its marker and highlights it
     browser.find_elements(By.CSS_SELECTOR, "#findings-table tbody tr")[3].click()  # RL003

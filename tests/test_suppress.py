@@ -136,6 +136,8 @@ def test_baseline_reports_only_new_findings(
     written = run("check", "maps", "--write-baseline", baseline)
     assert written.exit_code == 0
     assert "recorded 6 findings" in written.stderr
+    one = run("check", "maps", "--select", "SW006", "--write-baseline", tmp_path / "one.json")
+    assert one.stderr == f"xodrlint: recorded 1 finding in {tmp_path / 'one.json'}\n"
     document = json.loads(baseline.read_text("utf-8"))
     assert {e["path"] for e in document["findings"]} == {"maps/a.xodr"}
 

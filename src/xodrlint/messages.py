@@ -37,6 +37,12 @@ def readable_parser_message(message: str) -> str:
     return _lowercase_first(message)
 
 
+def plural(count: int, noun: str, nouns: str | None = None) -> str:
+    """``count`` and its noun, singular for one: ``1 file``, ``2 files``, ``0 files``;
+    ``nouns`` where the plural is not the noun and an "s" (``switches``, ``info``)."""
+    return f"{count} {noun if count == 1 else nouns or noun + 's'}"
+
+
 def one_line(text: str) -> str:
     """``text`` with what is not printable (line breaks, control characters) escaped as
     ``\\x85``, ``\\u2028``: a message stays one line and cannot steer a terminal."""

@@ -52,7 +52,7 @@ from xodrlint.engine import (
 )
 from xodrlint.findings import NO_ENTRIES, FileReport, RunResult
 from xodrlint.formatters import Formatter, available, get_formatter, warnings_of
-from xodrlint.messages import one_line
+from xodrlint.messages import one_line, plural
 from xodrlint.output import error_line, write_output
 from xodrlint.registry import Registry
 from xodrlint.validation.sets import Origin, SchemaLoadError
@@ -391,7 +391,7 @@ def _write_baseline(path: Path, reports: list[FileReport], root: str) -> int:
         error_line(f"--write-baseline {path}: cannot write: {os_reason(error)}")
         return 2
     count = sum(len(r.findings) for r in reports)
-    print(f"xodrlint: recorded {count} findings in {path}", file=sys.stderr)
+    print(f"xodrlint: recorded {plural(count, 'finding')} in {path}", file=sys.stderr)
     return 2 if any(r.error for r in reports) else 0
 
 

@@ -32,6 +32,7 @@ from xodrlint.mapview.page import html_page, standalone_svg
 from xodrlint.mapview.place import Placer
 from xodrlint.mapview.scene import Scene, build_scene
 from xodrlint.mapview.svg import PlacedFinding, frame_of
+from xodrlint.messages import plural
 from xodrlint.model import RailNetwork, build_network
 from xodrlint.output import error_line, write_output
 from xodrlint.registry import Registry
@@ -162,9 +163,10 @@ def _print_written(output: str, rendered: RenderedMap, seconds: float) -> None:
     size = len(rendered.text.encode("utf-8"))
     print(
         f"xodrlint: wrote {output} ({size / 1e6:.2f} MB in {seconds:.1f} s): "
-        f"{scene.road_count()} roads, "
-        f"{len(scene.switches)} switches, {len(scene.platforms)} platform segments, "
-        f"{placed} of {len(rendered.findings)} findings placed, "
-        f"{len(scene.not_drawn)} items not drawn",
+        f"{plural(scene.road_count(), 'road')}, "
+        f"{plural(len(scene.switches), 'switch', 'switches')}, "
+        f"{plural(len(scene.platforms), 'platform segment')}, "
+        f"{placed} of {plural(len(rendered.findings), 'finding')} placed, "
+        f"{plural(len(scene.not_drawn), 'item')} not drawn",
         file=sys.stderr,
     )

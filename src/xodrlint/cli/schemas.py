@@ -10,6 +10,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from xodrlint.messages import plural
 from xodrlint.output import error_line as _error
 from xodrlint.validation.sets import SchemaFinder, builtin_set
 
@@ -59,5 +60,5 @@ def _store(install: Callable[[], list[Installed]], done: str) -> int:
         _error(str(error))
         return 2
     for item in installed:
-        print(f"{done} OpenDRIVE {item.version} ({item.files} files) to {item.folder}")
+        print(f"{done} OpenDRIVE {item.version} ({plural(item.files, 'file')}) to {item.folder}")
     return 0

@@ -14,7 +14,7 @@ from rich.console import Console
 from rich.text import Text
 
 from xodrlint.findings import FileReport, Finding, RunResult, Severity
-from xodrlint.messages import one_line
+from xodrlint.messages import one_line, plural
 from xodrlint.output import color_wanted, is_terminal
 
 STYLE: Final = {
@@ -133,19 +133,21 @@ def _summary(result: RunResult) -> Text:
     counts = result.count_by_severity()
     total = sum(counts.values())
     unreadable = sum(1 for r in result.reports if r.error)
-    noun = "file" if files == 1 else "files"
     if total == 0 and not unreadable:
-        text = Text(f"All checks passed: {files} {noun}, no findings.", style="green")
+        text = Text(f"All checks passed: {plural(files, 'file')}, no findings.", style="green")
     elif total == 0:
-        text = Text(f"No findings in {files - unreadable} of {files} {noun}.")
+        text = Text(f"No findings in {files - unreadable} of {plural(files, 'file')}.")
     else:
+        # "info" is a mass noun: "2 info", as the map page says
         parts = ", ".join(
-            f"{n} {severity}{'s' if n != 1 else ''}" for severity, n in counts.items() if n
+            plural(n, severity, "info" if severity == "info" else None)
+            for severity, n in counts.items()
+            if n
         )
         with_findings = sum(1 for r in result.reports if r.findings)
         text = Text(
-            f"Found {total} finding{'s' if total != 1 else ''} ({parts}) "
-            f"in {with_findings} of {files} {noun}."
+            f"Found {plural(total, 'finding')} ({parts}) "
+            f"in {with_findings} of {plural(files, 'file')}."
         )
     if unreadable:
         text.append(f" {unreadable} could not be read.", style="red")

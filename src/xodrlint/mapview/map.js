@@ -184,16 +184,21 @@
     if (!centre) { row.scrollIntoView({ block: "nearest" }); }
   }
 
+  // "1 switch", "2 switches": a count and its noun, singular for one
+  function counted(n, one, many) { return n + " " + (n === 1 ? one : many); }
+
   function buildSummary() {
     var counts = { error: 0, warning: 0, info: 0 };
     var unplaced = 0;
     data.findings.forEach(function (f) { counts[f.severity] += 1; if (!f.at) { unplaced += 1; } });
     document.getElementById("summary").textContent =
-      data.roadCount + " roads, " + svg.querySelectorAll(".track").length + " track pieces, " +
-      svg.querySelectorAll(".switch").length + " switches, " +
-      svg.querySelectorAll(".platform").length + " platform segments. " +
-      data.findings.length + " findings (" + counts.error + " errors, " + counts.warning +
-      " warnings, " + counts.info + " info)" + (unplaced ? ", " + unplaced + " not on the map." : ".");
+      counted(data.roadCount, "road", "roads") + ", " +
+      counted(svg.querySelectorAll(".track").length, "track piece", "track pieces") + ", " +
+      counted(svg.querySelectorAll(".switch").length, "switch", "switches") + ", " +
+      counted(svg.querySelectorAll(".platform").length, "platform segment", "platform segments") + ". " +
+      counted(data.findings.length, "finding", "findings") + " (" +
+      counted(counts.error, "error", "errors") + ", " + counted(counts.warning, "warning", "warnings") +
+      ", " + counts.info + " info)" + (unplaced ? ", " + unplaced + " not on the map." : ".");
     var list = document.getElementById("not-drawn");
     data.notDrawn.forEach(function (item) {
       var li = document.createElement("li");
