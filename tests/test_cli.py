@@ -573,6 +573,52 @@ def test_explain_works_for_every_rule(meta: Any) -> None:
     assert "## What it does" in out and meta.uid in out
 
 
+def _command_paths() -> list[tuple[str, ...]]:
+    """Every command of the app, by the words that invoke it (``schemas add``)."""
+    import typer.main
+
+    found: list[tuple[str, ...]] = [()]
+    groups: list[tuple[tuple[str, ...], Any]] = [((), typer.main.get_command(app))]
+    while groups:
+        path, group = groups.pop()
+        for name, command in getattr(group, "commands", {}).items():
+            found.append((*path, name))
+            groups.append(((*path, name), command))
+    return sorted(found)
+
+
+def _params_of(path: tuple[str, ...]) -> list[Any]:
+    import typer.main
+
+    command: Any = typer.main.get_command(app)
+    for name in path:
+        command = command.commands[name]
+    return list(command.params)
+
+
+#: What typer and click write where a parameter names no metavar of its own: its type
+#: (<str>, <int range>) or choices (<auto|always|never>), TEXT, INTEGER, {name}.
+HELP_PLACEHOLDERS = re.compile(r"<[a-z][a-z |]*>|\bTEXT\b|INTEGER|\{")
+#: A metavar says what to give: FILE, PATH..., CODES, NAME=NUMBER.
+METAVAR = re.compile(r"[A-Z][A-Z0-9_]*(=[A-Z]+)?(\.\.\.)?")
+
+
+@pytest.mark.parametrize("path", _command_paths(), ids=" ".join)
+def test_help_names_every_value_by_what_it_is(path: tuple[str, ...]) -> None:
+    text = cli(*path, "--help", code=0).stdout
+    assert not HELP_PLACEHOLDERS.search(text), text
+    # every parameter that takes a value, options added later included, names it
+    for param in _params_of(path):
+        if getattr(param, "is_flag", False):
+            continue
+        assert param.metavar is not None and METAVAR.fullmatch(param.metavar), (
+            path,
+            param.name,
+            param.metavar,
+        )
+        assert param.metavar in text, (path, param.metavar)
+
+
 def test_rules_lists_all_43_rules_and_which_are_off_by_default() -> None:
     table, _, footnote = cli("rules", code=0).stdout.partition("\n\n")
     codes = [line.split()[0] for line in table.splitlines()[1:]]

@@ -5,9 +5,10 @@ and help, each handing off to its own module in this package. No logic lives her
 # run time, and a string annotation costs an eval (a compile) each, 20 ms per run.
 from enum import StrEnum
 from pathlib import Path
-from typing import Annotated, NoReturn
+from typing import Annotated, Any, NoReturn
 
 import typer
+from typer.core import TyperArgument, TyperCommand
 
 from xodrlint import __version__
 
@@ -37,6 +38,22 @@ _COLOR_HELP = (
     "Style the text: auto (on a terminal, unless NO_COLOR is set; FORCE_COLOR forces "
     "it), always or never."
 )
+
+
+class _Command(TyperCommand):
+    """A command whose usage line names its arguments as their help does (``PATH...``,
+    ``[PATH...]`` when optional), not in the braces typer puts around required ones."""
+
+    # ``Any``: the context is click's, which typer vendors (privately) from 0.20 on
+    def collect_usage_pieces(self, ctx: Any) -> list[str]:
+        pieces = [self.options_metavar] if self.options_metavar else []
+        for param in self.get_params(ctx):
+            if isinstance(param, TyperArgument):
+                name = param.metavar or (param.name or "").upper()
+                pieces.append(name if param.required else f"[{name}]")
+            else:
+                pieces.extend(param.get_usage_pieces(ctx))
+        return pieces
 
 
 class FailOn(StrEnum):
@@ -79,12 +96,13 @@ _RUN = "Run"
 _RULE_OPTIONS = "Rule options"
 
 
-@app.command()
+@app.command(cls=_Command)
 def check(
     paths: Annotated[
         list[str],
         typer.Argument(
-            help="Files, folders (searched for *.xodr), glob patterns, or '-' for standard input."
+            metavar="PATH...",
+            help="Files, folders (searched for *.xodr), glob patterns, or '-' for standard input.",
         ),
     ],
     output_format: Annotated[
@@ -92,6 +110,7 @@ def check(
         typer.Option(
             "--output-format",
             "-f",
+            metavar="FORMAT",
             help="text, concise, json, sarif, github, gitlab, junit, xqar, or a plugin's.",
             rich_help_panel=_OUTPUT,
         ),
@@ -101,6 +120,7 @@ def check(
         typer.Option(
             "--output",
             "-o",
+            metavar="FILE",
             help="Write the report to FILE ('-': stdout).",
             rich_help_panel=_OUTPUT,
         ),
@@ -118,24 +138,33 @@ def check(
     select: Annotated[
         list[str] | None,
         typer.Option(
+            metavar="CODES",
             help="Rule codes, prefixes, names or UIDs to run (comma-separated).",
             rich_help_panel=_SELECTION,
         ),
     ] = None,
     extend_select: Annotated[
         list[str] | None,
-        typer.Option(help="Rules to run in addition to --select.", rich_help_panel=_SELECTION),
+        typer.Option(
+            metavar="CODES",
+            help="Rules to run in addition to --select.",
+            rich_help_panel=_SELECTION,
+        ),
     ] = None,
     ignore: Annotated[
         list[str] | None,
         typer.Option(
-            help="Rule codes, prefixes, names or UIDs to skip.", rich_help_panel=_SELECTION
+            metavar="CODES",
+            help="Rule codes, prefixes, names or UIDs to skip.",
+            rich_help_panel=_SELECTION,
         ),
     ] = None,
     fail_on: Annotated[
         FailOn | None,
         typer.Option(
-            help="Lowest severity that makes the exit code 1 (default warning).",
+            metavar="SEVERITY",
+            help="Lowest severity that makes the exit code 1: error, warning (the default) "
+            "or info.",
             rich_help_panel=_OUTPUT,
         ),
     ] = None,
@@ -148,6 +177,7 @@ def check(
     schema: Annotated[
         Path | None,
         typer.Option(
+            metavar="PATH",
             help="An XSD file, or a folder with one schema set or one per version.",
             rich_help_panel=_CONFIG,
         ),
@@ -179,7 +209,7 @@ def check(
     ] = False,
     color: Annotated[
         Color | None,
-        typer.Option("--color", help=_COLOR_HELP, rich_help_panel=_OUTPUT),
+        typer.Option("--color", metavar="WHEN", help=_COLOR_HELP, rich_help_panel=_OUTPUT),
     ] = None,
     statistics: Annotated[
         bool,
@@ -192,11 +222,16 @@ def check(
     ] = False,
     stdin_filename: Annotated[
         str | None,
-        typer.Option(help="The path to report for input read from '-'.", rich_help_panel=_RUN),
+        typer.Option(
+            metavar="PATH",
+            help="The path to report for input read from '-'.",
+            rich_help_panel=_RUN,
+        ),
     ] = None,
     config: Annotated[
         Path | None,
         typer.Option(
+            metavar="FILE",
             help="Use this config file (pyproject.toml, xodrlint.toml) instead of searching.",
             rich_help_panel=_CONFIG,
         ),
@@ -207,7 +242,9 @@ def check(
     ] = False,
     exclude: Annotated[
         list[str] | None,
-        typer.Option(help="Glob patterns of files to skip.", rich_help_panel=_CONFIG),
+        typer.Option(
+            metavar="GLOBS", help="Glob patterns of files to skip.", rich_help_panel=_CONFIG
+        ),
     ] = None,
     respect_gitignore: Annotated[
         bool | None,
@@ -232,6 +269,7 @@ def check(
             "--jobs",
             "-j",
             min=1,
+            metavar="N",
             help="Worker processes (default: one per core).",
             rich_help_panel=_RUN,
         ),
@@ -239,12 +277,15 @@ def check(
     baseline: Annotated[
         Path | None,
         typer.Option(
-            help="Report only findings not recorded in this baseline file.", rich_help_panel=_RUN
+            metavar="FILE",
+            help="Report only findings not recorded in this baseline file.",
+            rich_help_panel=_RUN,
         ),
     ] = None,
     write_baseline: Annotated[
         Path | None,
         typer.Option(
+            metavar="FILE",
             help="Record the current findings in this baseline file and exit 0.",
             rich_help_panel=_RUN,
         ),
@@ -279,6 +320,7 @@ def check(
     max_file_size: Annotated[
         str | None,
         typer.Option(
+            metavar="SIZE",
             help="Refuse inputs larger than this, before reading them: bytes, or 500MB, "
             "2GiB (default 2GiB).",
             rich_help_panel=_RUN,
@@ -288,6 +330,7 @@ def check(
         float | None,
         typer.Option(
             min=0,
+            metavar="SECONDS",
             help="Stop a rule that runs longer than this many seconds on one file and "
             "report it as an internal error (default 60; 0: no limit).",
             rich_help_panel=_RUN,
@@ -296,6 +339,7 @@ def check(
     rail_min_width: Annotated[
         float | None,
         typer.Option(
+            metavar="METRES",
             help="Narrowest allowed rail/tram lane in metres (RL003; default 1.435).",
             rich_help_panel=_RULE_OPTIONS,
         ),
@@ -303,6 +347,7 @@ def check(
     refline_tolerance: Annotated[
         float | None,
         typer.Option(
+            metavar="METRES",
             help="Largest allowed distance of a rail lane's centre from the reference line "
             "in metres (RL002; default 0.05).",
             rich_help_panel=_RULE_OPTIONS,
@@ -311,6 +356,7 @@ def check(
     rule_option: Annotated[
         list[str] | None,
         typer.Option(
+            metavar="NAME=NUMBER",
             help="Any rule option, a plugin's too: NAME=NUMBER (repeatable).",
             rich_help_panel=_RULE_OPTIONS,
         ),
@@ -379,22 +425,36 @@ def _named_options(entries: list[str]) -> dict[str, float]:
     return values
 
 
-@app.command("qc")
+@app.command("qc", cls=_Command)
 def qc_command(
     input_file: Annotated[
-        str | None, typer.Argument(help="The file to check, when no configuration names it.")
+        str | None,
+        typer.Argument(metavar="FILE", help="The file to check, when no configuration names it."),
     ] = None,
     config: Annotated[
         Path | None,
-        typer.Option("--config", "-c", help="The ASAM Quality Checker configuration (XML)."),
+        typer.Option(
+            "--config",
+            "-c",
+            metavar="FILE",
+            help="The ASAM Quality Checker configuration (XML).",
+        ),
     ] = None,
     output: Annotated[
         str | None,
-        typer.Option("--output", "-o", help="The result file (default: the configuration's)."),
+        typer.Option(
+            "--output",
+            "-o",
+            metavar="FILE",
+            help="The result file (default: the configuration's).",
+        ),
     ] = None,
     manifest: Annotated[
         str | None,
-        typer.Option(help="Write the framework's module manifest for xodrlint here and stop."),
+        typer.Option(
+            metavar="FILE",
+            help="Write the framework's module manifest for xodrlint here and stop.",
+        ),
     ] = None,
 ) -> None:
     """Run as a checker bundle of the ASAM Quality Checker framework (writes XQAR)."""
@@ -403,25 +463,38 @@ def qc_command(
     raise typer.Exit(run_qc(config, input_file, output, manifest))
 
 
-@app.command("map")
+@app.command("map", cls=_Command)
 def map_command(
-    path: Annotated[str, typer.Argument(help="The .xodr file to draw.")],
+    path: Annotated[str, typer.Argument(metavar="FILE", help="The .xodr file to draw.")],
     output: Annotated[
         str,
         typer.Option(
-            "--output", "-o", help="The page to write: FILE.html (interactive) or FILE.svg."
+            "--output",
+            "-o",
+            metavar="FILE",
+            help="The page to write: FILE.html (interactive) or FILE.svg.",
         ),
     ],
-    select: Annotated[list[str] | None, typer.Option(help="As for check.")] = None,
-    extend_select: Annotated[list[str] | None, typer.Option(help="As for check.")] = None,
-    ignore: Annotated[list[str] | None, typer.Option(help="As for check.")] = None,
-    fail_on: Annotated[FailOn | None, typer.Option(help="As for check.")] = None,
-    schema: Annotated[Path | None, typer.Option(help="As for check.")] = None,
-    config: Annotated[Path | None, typer.Option(help="As for check.")] = None,
+    select: Annotated[list[str] | None, typer.Option(metavar="CODES", help="As for check.")] = None,
+    extend_select: Annotated[
+        list[str] | None, typer.Option(metavar="CODES", help="As for check.")
+    ] = None,
+    ignore: Annotated[list[str] | None, typer.Option(metavar="CODES", help="As for check.")] = None,
+    fail_on: Annotated[
+        FailOn | None, typer.Option(metavar="SEVERITY", help="As for check.")
+    ] = None,
+    schema: Annotated[Path | None, typer.Option(metavar="PATH", help="As for check.")] = None,
+    config: Annotated[Path | None, typer.Option(metavar="FILE", help="As for check.")] = None,
     isolated: Annotated[bool, typer.Option("--isolated", help="As for check.")] = False,
-    rail_min_width: Annotated[float | None, typer.Option(help="As for check.")] = None,
-    refline_tolerance: Annotated[float | None, typer.Option(help="As for check.")] = None,
-    rule_option: Annotated[list[str] | None, typer.Option(help="As for check.")] = None,
+    rail_min_width: Annotated[
+        float | None, typer.Option(metavar="METRES", help="As for check.")
+    ] = None,
+    refline_tolerance: Annotated[
+        float | None, typer.Option(metavar="METRES", help="As for check.")
+    ] = None,
+    rule_option: Annotated[
+        list[str] | None, typer.Option(metavar="NAME=NUMBER", help="As for check.")
+    ] = None,
 ) -> None:
     """Draw the network with every finding on it: a self-contained HTML page or an SVG."""
     from xodrlint.cli.check import CheckRequest
@@ -441,15 +514,20 @@ def map_command(
     raise typer.Exit(run_map(MapRequest(lint, output)))
 
 
-@app.command("config")
+@app.command("config", cls=_Command)
 def config_command(
     paths: Annotated[
         list[str] | None,
-        typer.Argument(help="The paths a check would take (the first decides the config)."),
+        typer.Argument(
+            metavar="PATH...",
+            help="The paths a check would take (the first decides the config).",
+        ),
     ] = None,
-    config: Annotated[Path | None, typer.Option(help="Use this config file.")] = None,
+    config: Annotated[
+        Path | None, typer.Option(metavar="FILE", help="Use this config file.")
+    ] = None,
     output_format: Annotated[
-        str, typer.Option("--output-format", "-f", help="text or json.")
+        str, typer.Option("--output-format", "-f", metavar="FORMAT", help="text or json.")
     ] = "text",
 ) -> None:
     """Show the effective configuration and where each value comes from."""
@@ -461,7 +539,7 @@ def config_command(
 @app.command("rules")
 def rules_command(
     output_format: Annotated[
-        str, typer.Option("--output-format", "-f", help="text or json.")
+        str, typer.Option("--output-format", "-f", metavar="FORMAT", help="text or json.")
     ] = "text",
 ) -> None:
     """List every rule: code, name, severity and ASAM rule UID."""
@@ -470,10 +548,12 @@ def rules_command(
     raise typer.Exit(print_rules(output_format))
 
 
-@app.command()
+@app.command(cls=_Command)
 def explain(
-    code: Annotated[str, typer.Argument(help="A rule code, name or UID.")],
-    color: Annotated[Color | None, typer.Option("--color", help=_COLOR_HELP)] = None,
+    code: Annotated[str, typer.Argument(metavar="RULE", help="A rule code, name or UID.")],
+    color: Annotated[
+        Color | None, typer.Option("--color", metavar="WHEN", help=_COLOR_HELP)
+    ] = None,
 ) -> None:
     """Show a rule's documentation."""
     from xodrlint.cli.rules import explain_rule
@@ -489,9 +569,11 @@ def schemas_list() -> None:
     raise typer.Exit(list_schemas())
 
 
-@schemas_app.command("add")
+@schemas_app.command("add", cls=_Command)
 def schemas_add(
-    source: Annotated[Path, typer.Argument(help="An ASAM schema download: a folder or a zip.")],
+    source: Annotated[
+        Path, typer.Argument(metavar="PATH", help="An ASAM schema download: a folder or a zip.")
+    ],
 ) -> None:
     """Copy official schema sets into the user data folder."""
     from xodrlint.cli.schemas import add_schemas
@@ -503,7 +585,9 @@ def schemas_add(
 def schemas_fetch(
     wheel: Annotated[
         Path | None,
-        typer.Option(help="Use this already downloaded asam-qc-opendrive wheel (offline)."),
+        typer.Option(
+            metavar="FILE", help="Use this already downloaded asam-qc-opendrive wheel (offline)."
+        ),
     ] = None,
 ) -> None:
     """Download ASAM's schemas (1.1 to 1.8.0) from the asam-qc-opendrive wheel on PyPI."""
