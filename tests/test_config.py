@@ -6,13 +6,16 @@ import json
 import subprocess
 import sys
 import textwrap
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 from typer.testing import CliRunner, Result
 
+from xodrlint.api import default_registry
 from xodrlint.cli import app
 from xodrlint.config import ConfigError, find_config, matches, read_config
+from xodrlint.findings import Hit
 
 from .conftest import REPO
 
@@ -167,6 +170,42 @@ def test_config_command_shows_defaults_and_sources(tmp_path: Path) -> None:
     assert 'ignore                    ["SW006"]' in out
     assert f"# {project / 'pyproject.toml'}" in out
     assert "# default" in out
+
+
+def _with_a_plugin_option(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A plugin rule declaring an option of its own, installed for ``config``."""
+    from xodrlint.findings import RuleOption, Severity
+    from xodrlint.registry import Registry
+    from xodrlint.rules import RailNetwork, rule
+
+    @rule(
+        code="AC002",
+        name="gauge-check",
+        uid="acme:xodr:1.0.0:gauge",
+        severity=Severity.INFO,
+        options=[RuleOption("acme-gauge", 1.668, "the Iberian gauge")],
+    )
+    def gauge(network: RailNetwork) -> Iterator[Hit]:
+        yield from ()
+
+    registry = Registry((*default_registry().rules, gauge))
+    monkeypatch.setattr("xodrlint.cli.config.default_registry", lambda: registry)
+
+
+def test_config_shows_every_rule_option_with_its_default(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    _with_a_plugin_option(monkeypatch)
+    project = _project(tmp_path, "xodrlint.toml", "rail-min-width = 1.0\n")
+    settings = json.loads(run("config", "-f", "json", project).stdout)["settings"]
+    assert settings["rail-min-width"] == {"value": 1.0, "source": str(project / "xodrlint.toml")}
+    assert settings["refline-tolerance"] == {"value": 0.05, "source": "default"}
+    assert settings["acme-gauge"] == {"value": 1.668, "source": "default"}
+    text = run("config", project).stdout.splitlines()
+    assert [line.split() for line in text if line.startswith(("refline-", "acme-"))] == [
+        ["acme-gauge", "1.668", "#", "default"],
+        ["refline-tolerance", "0.05", "#", "default"],
+    ]
 
 
 def test_schema_path_in_a_config_is_relative_to_the_file(tmp_path: Path) -> None:

@@ -102,6 +102,9 @@ class Settings:
     respect_gitignore: bool = True
     """Whether folder walks leave out what .gitignore, .ignore and info/exclude exclude."""
     rule_options: Mapping[str, float] = field(default_factory=dict)
+    """The rule options a config file or the command line set; the rest keep defaults."""
+    option_defaults: Mapping[str, float] = field(default_factory=dict)
+    """Every rule option the rules declare, a plugin's too, with its default."""
     warn_unused_suppressions: bool = False
     max_file_size: int = DEFAULT_MAX_FILE_SIZE
     rule_timeout: float = DEFAULT_RULE_TIMEOUT
@@ -143,9 +146,8 @@ class Settings:
             ("max-file-size", format_size(self.max_file_size), self.source_of("max-file-size")),
             ("rule-timeout", self.rule_timeout, self.source_of("rule-timeout")),
         ]
-        rows += [
-            (name, value, self.source_of(name)) for name, value in sorted(self.rule_options.items())
-        ]
+        values = {**self.option_defaults, **self.rule_options}
+        rows += [(name, value, self.source_of(name)) for name, value in sorted(values.items())]
         return rows
 
 
@@ -264,12 +266,13 @@ def settings_from(
     overrides: Mapping[str, object],
     *,
     option_minimums: Mapping[str, float] | None = None,
+    option_defaults: Mapping[str, float] | None = None,
     known_codes: Iterable[str] = (),
 ) -> Settings:
     """The effective settings: defaults, then ``config``, then ``overrides`` (the command
     line, ``None`` meaning not given). ``option_minimums`` gives each rule option the rules
-    declare with its smallest allowed value; ``known_codes`` the codes ``severity`` may
-    name."""
+    declare with its smallest allowed value, ``option_defaults`` with its default (for
+    ``xodrlint config``); ``known_codes`` the codes ``severity`` may name."""
     minimums = dict(option_minimums or {})
     options = set(minimums)
     values: dict[str, object] = {}
@@ -298,6 +301,7 @@ def settings_from(
         exclude=tuple(_get(values, "exclude", ())),
         respect_gitignore=bool(values.get("respect-gitignore", True)),
         rule_options={name: float(values[name]) for name in options if name in values},  # type: ignore[arg-type]
+        option_defaults=dict(option_defaults or {}),
         warn_unused_suppressions=bool(values.get("warn-unused-suppressions", False)),
         max_file_size=int(_get(values, "max-file-size", DEFAULT_MAX_FILE_SIZE)),
         rule_timeout=float(_get(values, "rule-timeout", DEFAULT_RULE_TIMEOUT)),

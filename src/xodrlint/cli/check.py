@@ -124,6 +124,7 @@ def resolve_settings(
         found,
         overrides or {},
         option_minimums=minimums,
+        option_defaults=resolve_rule_options(registry, {}),
         known_codes=registry.by_code,
     )
 
