@@ -163,6 +163,48 @@ def test_explicit_config_and_isolated(tmp_path: Path) -> None:
     assert missing.exit_code == 2 and "nope.toml: cannot read" in missing.stderr
 
 
+@pytest.mark.parametrize(
+    "text",
+    [
+        '[tool.xodrlint]\nselect = ["ST"]\n',
+        '[project]\nname = "maps"\n[tool.ruff]\nline-length = 99\n[tool.xodrlint]\nselect = ["ST"]\n',
+        'select = ["ST"]\n',
+    ],
+    ids=["tool-table", "pyproject-like", "top-level"],
+)
+def test_an_explicit_config_of_any_name_takes_either_layout(tmp_path: Path, text: str) -> None:
+    project = _project(tmp_path, "ci.toml", text)
+    target = project / "maps" / "broken.xodr"
+    assert _codes(run("check", "-f", "json", "--config", project / "ci.toml", target)) == ["ST004"]
+    shown = json.loads(run("config", "-f", "json", "--config", project / "ci.toml").stdout)
+    assert shown["settings"]["select"] == {"value": ["ST"], "source": str(project / "ci.toml")}
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        (
+            'select = ["RL"]\n[tool.xodrlint]\nselect = ["ST"]\n',
+            "has settings both in [tool.xodrlint] and at its top level ('select')",
+        ),
+        (
+            "rail-min-width = 1.0\n[tool.xodrlint]\n",
+            "has settings both in [tool.xodrlint] and at its top level ('rail-min-width')",
+        ),
+        ("[tool.xodrlint]\ncolour = 1\n", "[tool.xodrlint]: unknown key 'colour'"),
+        ("[tool]\nxodrlint = 3\n", "[tool.xodrlint] must be a table"),
+    ],
+)
+def test_a_config_in_both_layouts_or_a_bad_table_names_the_file(
+    tmp_path: Path, text: str, message: str
+) -> None:
+    project = _project(tmp_path, "ci.toml", text)
+    result = run("check", "--config", project / "ci.toml", project / "maps" / "broken.xodr")
+    assert result.exit_code == 2
+    assert result.stderr.startswith(f"xodrlint: {project / 'ci.toml'}")
+    assert message in result.stderr and result.stderr.count("\n") == 1
+
+
 def test_config_command_shows_defaults_and_sources(tmp_path: Path) -> None:
     project = _project(tmp_path, "pyproject.toml", '[tool.xodrlint]\nignore = ["SW006"]\n')
     out = run("config", project).stdout

@@ -37,6 +37,8 @@ class ConfigError(ValueError):
 class ConfigFile(NamedTuple):
     path: Path
     table: Mapping[str, Any]
+    section: str | None = None
+    """``tool.xodrlint`` when the settings are in that table, ``None`` at the top level."""
 
     @property
     def base(self) -> Path:
@@ -60,7 +62,13 @@ def find_config(start: Path) -> ConfigFile | None:
 
 
 def read_config(path: Path, *, required: bool = True) -> ConfigFile | None:
-    """Read one file; a ``pyproject.toml`` without ``[tool.xodrlint]`` gives ``None``."""
+    """Read one file; a ``pyproject.toml`` without ``[tool.xodrlint]`` gives ``None``
+    (an error when ``required``).
+
+    A ``pyproject.toml`` holds the settings in ``[tool.xodrlint]``. Any other file (an
+    ``xodrlint.toml``, or whatever ``--config`` names) holds them either at its top level
+    or in a ``[tool.xodrlint]`` table, as pyproject.toml does; not both.
+    """
     import tomllib  # only runs that find a config file pay for it
 
     try:
@@ -70,17 +78,29 @@ def read_config(path: Path, *, required: bool = True) -> ConfigFile | None:
     except (ValueError, RecursionError) as error:  # TOMLDecodeError is a ValueError
         reason = "nested too deeply" if isinstance(error, RecursionError) else str(error)
         raise ConfigError(f"{path}: not valid TOML: {reason}") from error
-    if path.name == "pyproject.toml":
-        tool = document.get("tool", {})
-        table = tool.get("xodrlint") if isinstance(tool, dict) else None
-        if table is None:
-            if required:
-                raise ConfigError(f"{path}: has no [tool.xodrlint] table")
-            return None
-        if not isinstance(table, dict):
-            raise ConfigError(f"{path}: [tool.xodrlint] must be a table")
-        return ConfigFile(path, table)
-    return ConfigFile(path, document)
+    tool = document.get("tool")
+    table = tool.get("xodrlint") if isinstance(tool, dict) else None
+    if table is None and path.name == "pyproject.toml":
+        if required:
+            raise ConfigError(f"{path}: has no [tool.xodrlint] table")
+        return None
+    if table is None:
+        return ConfigFile(path, document)
+    if not isinstance(table, dict):
+        raise ConfigError(f"{path}: [tool.xodrlint] must be a table")
+    # beside [tool.xodrlint], a file may hold other tables ([project], [tool.ruff]), but
+    # no setting: xodrlint's keys, and any plain value, are settings in the wrong place
+    stray = [
+        key
+        for key, value in document.items()
+        if key != "tool" and (key in _READERS or not isinstance(value, dict))
+    ]
+    if stray:
+        raise ConfigError(
+            f"{path}: has settings both in [tool.xodrlint] and at its top level "
+            f"('{stray[0]}'); keep one of the two"
+        )
+    return ConfigFile(path, table, "tool.xodrlint")
 
 
 @dataclass(frozen=True)
@@ -318,9 +338,7 @@ def _get(values: Mapping[str, object], key: str, default: Any) -> Any:
 def _validated(
     config: ConfigFile, options: Mapping[str, float], codes: set[str]
 ) -> dict[str, object]:
-    where = (
-        f"{config.path} [tool.xodrlint]" if config.path.name == "pyproject.toml" else config.path
-    )
+    where = f"{config.path} [{config.section}]" if config.section else config.path
     values: dict[str, object] = {}
     for key, raw in config.table.items():
         reader = _READERS.get(key) or (_number if key in options else None)
