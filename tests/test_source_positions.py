@@ -185,12 +185,31 @@ def test_a_prefixed_start_tag_is_found_by_its_local_name() -> None:
     assert _assert_exact(doc, text) == 4
 
 
-def test_nodes_that_are_not_elements_have_a_line_and_no_column() -> None:
-    doc = load_bytes(_text('  <!-- a comment -->\n  <road k="1"/>\n').encode(), "comment.xodr")
+def test_a_comment_stands_where_its_opening_does() -> None:
+    text = (
+        _text(
+            '  <road k="1"/><!-- é <road k="d1"/> --><!--second-->\n  <![CDATA[<!-- no -->]]>\n'
+            "  <?pi <!-- no --> ?><!-- third -->\n",
+            '<?xml version="1.0"?>\n<!-- before the root -->\n',
+        )
+        + "<!-- after it -->\n"
+    )
+    doc = load_bytes(text.encode(), "comments.xodr")
     assert doc.root is not None
-    comment = doc.root[1]
-    assert isinstance(comment, etree._Comment)
-    assert doc.position_of(comment) == (4, None)
+    comments = [
+        *doc.root.itersiblings(etree.Comment, preceding=True),
+        *doc.root.iter(etree.Comment),
+        *doc.root.itersiblings(etree.Comment),
+    ]
+    assert [doc.position_of(c) for c in comments] == [(2, 1), (5, 16), (5, 41), (7, 22), (9, 1)]
+
+
+def test_a_processing_instruction_has_a_line_and_no_column() -> None:
+    doc = load_bytes(_text('  <?pi data?>\n  <road k="1"/>\n').encode(), "pi.xodr")
+    assert doc.root is not None
+    instruction = doc.root[1]
+    assert isinstance(instruction, etree._ProcessingInstruction)
+    assert doc.position_of(instruction) == (4, None)
 
 
 _PIECES = st.sampled_from(

@@ -103,6 +103,9 @@ def test_unused_suppressions_are_reported_when_asked(tmp_path: Path) -> None:
         ("XL001", lines.index("      <!-- xodrlint: ignore[ST004, PT001] -->") + 1),
         ("XL001", len(lines) - 1),
     ]
+    # each at the column of its comment's "<!--"
+    report = Linter(default_registry(), LintOptions(warn_unused_suppressions=True)).lint_path(path)
+    assert [f.column for f in report.findings if f.code == "XL001"] == [7, 1]
 
 
 def test_suppressed_findings_are_kept_only_when_asked(tmp_path: Path) -> None:

@@ -159,6 +159,9 @@ class SourcePositions:
     an index of newlines per 4 KiB block, and a column counts the characters between the
     two, so a lookup costs the same on a minified one-line map as on a pretty one.
 
+    A comment is placed the same way, at its ``<!--`` (an unused suppression is reported
+    there); its mapping is made only when a comment is asked about.
+
     A position is never a guess: where the scan and the tree disagree (a number of start
     tags that differs from the number of elements, a start tag of another name), the
     line is libxml2's and the column ``None``; so is the column of a file in an encoding
@@ -177,6 +180,8 @@ class SourcePositions:
             self._offsets = dict(zip(root.iter(etree.Element), starts, strict=True))
         except ValueError:  # the scan misread some markup: trust none of it
             self._offsets = {}
+        self._root = root
+        self._comments: dict[etree._Element, int] | None = None
         self._names: dict[str, bytes] = {}
         self._blocks: _Blocks | None = None
         self._counting: _Counting | None = None
@@ -188,8 +193,8 @@ class SourcePositions:
 
     def position_of(self, node: etree._Element) -> tuple[int, int | None]:
         """``(line, column)`` of ``node``'s ``<``; the column is ``None`` where it cannot
-        be known exactly (a comment, a processing instruction, an encoding whose
-        characters cannot be counted, markup the scan could not place)."""
+        be known exactly (a processing instruction, an encoding whose characters cannot be
+        counted, markup the scan could not place)."""
         offset = self._offset(node)
         if offset is None:
             return parser_line(node), None
@@ -200,7 +205,7 @@ class SourcePositions:
         """Where ``node``'s start tag begins in the scanned text, checked against its name."""
         offset = self._offsets.get(node)
         if offset is None:
-            return None
+            return self._comment_offset(node) if isinstance(node, etree._Comment) else None
         tag = node.tag
         name = self._names.get(tag) if isinstance(tag, str) else None
         if name is None:
@@ -211,6 +216,25 @@ class SourcePositions:
             return offset  # the common case, a name without a prefix: no regular expression
         found = _QNAME.match(text, offset + 1)
         return offset if name and found and found[0].rpartition(b":")[2] == name else None
+
+    def _comment_offset(self, node: etree._Comment) -> int | None:
+        """Where a comment's ``<!--`` stands: the k-th comment of the document, before its
+        root, in it and after it, is the k-th the scan finds."""
+        if self._comments is None:
+            text, root = self._text, self._root
+            found = [
+                m.start() for m in _MARKUP.finditer(text) if text.startswith(b"<!--", m.start())
+            ]
+            comments = [
+                *reversed(list(root.itersiblings(etree.Comment, preceding=True))),
+                *root.iter(etree.Comment),
+                *root.itersiblings(etree.Comment),
+            ]
+            try:
+                self._comments = dict(zip(comments, found, strict=True))
+            except ValueError:
+                self._comments = {}
+        return self._comments.get(node)
 
     def _name(self, tag: object) -> bytes:
         """A tag's local name as the scanned text spells it (empty where it cannot)."""

@@ -141,9 +141,11 @@ def unused_hits(
     for directive, idle in suppressions.unused(judgeable):
         anchor = directive.target if directive.target is not None else directive.comment.getparent()
         shown = ", ".join(idle) if idle else "nothing"
+        line, column = doc.position_of(directive.comment)
         yield Hit(
             anchor,
             f"'xodrlint: {directive.scope}[{', '.join(directive.selectors)}]' "
             f"withholds no finding ({shown})",
-            line=doc.line_of(directive.comment),
+            line=line,
+            column=column,
         )
