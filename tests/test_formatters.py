@@ -569,7 +569,7 @@ def test_junit_counts_and_cases(tmp_path: Path) -> None:
     assert failure.type == "XS006"
     assert failure.message == result.findings[0].message
     assert failure.text == (
-        f"examples/broken.xodr:25: XS006 [error] {result.findings[0].message}\n"
+        f"examples/broken.xodr:25:7: XS006 [error] {result.findings[0].message}\n"
         f"{result.findings[0].xpath}"
     )
     (missing,) = list(suites[4])

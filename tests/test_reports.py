@@ -204,3 +204,74 @@ def test_a_full_disk_is_still_an_error() -> None:
         )
     assert done.returncode == 2
     assert done.stderr.startswith("xodrlint: standard output: cannot write: ")
+
+
+def _closed_stderr_run(*args: str | Path) -> subprocess.CompletedProcess[bytes]:
+    """Run the console script with standard error a pipe whose reader is gone."""
+    if not CONSOLE_SCRIPT.is_file():
+        pytest.skip(f"no console script at {CONSOLE_SCRIPT}")
+    reader, writer = os.pipe()
+    os.close(reader)
+    try:
+        return subprocess.run(
+            [CONSOLE_SCRIPT, *map(str, args)],
+            stdout=subprocess.PIPE,
+            stderr=writer,
+            timeout=60,
+            check=False,
+        )
+    finally:
+        os.close(writer)
+
+
+def test_a_reader_of_stderr_that_stops_early_changes_nothing(tmp_path: Path) -> None:
+    # '2>&1 | head': what stderr would say is dropped, the run goes on as it would have
+    assert _closed_stderr_run("check", "-v", CLEAN).returncode == 0
+    assert _closed_stderr_run("check", CLEAN, tmp_path / "gone.xodr").returncode == 2
+    junit = tmp_path / "junit.xml"
+    done = _closed_stderr_run("check", "-v", BROKEN, "--report", f"junit={junit}")
+    assert done.returncode == 1
+    assert JUnitXml.fromfile(str(junit))
+    assert b"XS006" in done.stdout
+
+
+def test_report_files_are_plain_whatever_the_terminal_asks(tmp_path: Path) -> None:
+    text, main = tmp_path / "report.txt", tmp_path / "main.txt"
+    cli("check", BROKEN, "-f", "json", "--report", f"text={text}", code=1, FORCE_COLOR="1")
+    cli("check", BROKEN, "--color", "always", "-o", main, code=1)
+    for written in (text, main):
+        content = written.read_text("utf-8")
+        assert "XS006" in content and "\x1b" not in content
+
+
+def test_a_baseline_run_writes_no_report_and_says_so(tmp_path: Path) -> None:
+    done = cli(
+        "check",
+        BROKEN,
+        "--write-baseline",
+        tmp_path / "baseline.json",
+        "--report",
+        f"junit={tmp_path / 'junit.xml'}",
+        code=2,
+    )
+    assert done.stderr == (
+        f"xodrlint: --report junit={tmp_path / 'junit.xml'}: --write-baseline writes the "
+        "baseline and no report\n"
+    )
+    assert not (tmp_path / "baseline.json").exists()
+
+
+def test_the_concise_notes_are_said_once_by_the_command(tmp_path: Path) -> None:
+    done = cli(
+        "check",
+        CLEAN,
+        "-f",
+        "concise",
+        "--report",
+        f"concise={tmp_path / 'a.txt'}",
+        "--report",
+        f"concise={tmp_path / 'b.txt'}",
+        code=0,
+    )
+    assert len(done.stderr.splitlines()) == 1 and done.stderr.startswith("xodrlint: note: ")
+    assert (tmp_path / "a.txt").read_text("utf-8") == ""

@@ -161,3 +161,30 @@ def test_a_pipe_shows_none(monkeypatch: pytest.MonkeyPatch) -> None:
     tasks = [Task(REPO / "examples" / "clean.xodr", f"clean-{n}") for n in range(3)]
     lint_tasks(Linter(default_registry(), LintOptions()), tasks, 1, progress=True)
     assert pipe.getvalue() == ""
+
+
+#: A colour, not only bold or underline.
+COLOUR = re.compile(r"\x1b\[(?:[0-9;]*;)?(?:3[0-7]|9[0-7]|38;)")
+
+
+def test_color_always_gives_colour_even_under_no_color() -> None:
+    out = cli("check", BROKEN, "--color", "always", code=1, NO_COLOR="1").stdout
+    assert COLOUR.search(out)
+    assert COLOUR.search(cli("check", BROKEN, code=1, FORCE_COLOR="1").stdout)
+
+
+def test_explain_styles_a_pipe_when_asked() -> None:
+    assert ANSI.search(cli("explain", "SW001", "--color", "always", code=0).stdout)
+    raw = cli("explain", "SW001", code=0).stdout
+    assert raw.startswith("# SW001 ") and not ANSI.search(raw)  # the page's Markdown
+
+
+def test_verbose_says_where_files_were_linted_and_counts_only_those(tmp_path: Path) -> None:
+    done = cli("check", "-v", "-j", "2", CLEAN, BROKEN, tmp_path / "gone.xodr", code=2)
+    lines = done.stderr.splitlines()
+    assert "xodrlint: files: 2, linted in this process" in lines  # too few for workers
+    assert any(re.fullmatch(r"xodrlint: linted 2 files in \d+\.\d+ (ms|s)", x) for x in lines)
+    for index in range(4):  # the same path twice is one input
+        (tmp_path / f"m{index}.xodr").write_bytes(BROKEN.read_bytes())
+    pooled = cli("check", "-v", "-j", "2", tmp_path, code=1).stderr
+    assert "xodrlint: files: 4, linted in 2 worker processes" in pooled.splitlines()

@@ -424,3 +424,23 @@ def test_a_missing_path_is_an_error_not_the_warning(tmp_path: Path) -> None:
     result = run("check", tmp_path / "gone")
     assert result.exit_code == 2
     assert result.stderr == f"xodrlint: {tmp_path}/gone: no such file or directory\n"
+
+
+def test_a_nested_repository_follows_its_own_ignore_files(tmp_path: Path) -> None:
+    # git: the outer repository's patterns stop where another repository starts
+    outer = make(
+        tmp_path / "outer",
+        {
+            ".git/info/exclude": "i.xodr\n",
+            ".gitignore": "*.tmp.xodr\n",
+            "i.xodr": "",
+            "nested/.git/info/exclude": "",
+            "nested/inner/i.xodr": "",
+            "nested/x.tmp.xodr": "",
+            "nested/.gitignore": "own.xodr\n",
+            "nested/own.xodr": "",
+        },
+    )
+    listed = shown(run("check", outer, "--show-files"))
+    assert listed == [f"{outer}/nested/inner/i.xodr", f"{outer}/nested/x.tmp.xodr"]
+    assert shown(run("check", outer / "nested", "--show-files")) == listed

@@ -21,37 +21,49 @@ def color_wanted(choice: str | None, stream: TextIO) -> bool:
     """Whether text written to ``stream`` carries styles (colour, bold, underline), as in
     ruff: ``--color always|never`` decides; otherwise a non-empty ``NO_COLOR`` means
     plain text (https://no-color.org), a non-empty ``FORCE_COLOR`` means styles, and
-    else a terminal (not a dumb one) gets them."""
+    else a person's terminal gets them."""
     if choice in ("always", "never"):
         return choice == "always"
     if os.environ.get("NO_COLOR"):
         return False
     if os.environ.get("FORCE_COLOR"):
         return True
-    return is_terminal(stream) and os.environ.get("TERM") != "dumb"
+    return interactive(stream)
 
 
-def is_terminal(stream: TextIO) -> bool:
+def interactive(stream: TextIO) -> bool:
+    """Whether ``stream`` is a terminal that obeys escape codes (not a dumb one)."""
     try:
-        return stream.isatty()
+        terminal = stream.isatty()
     except (AttributeError, ValueError):  # a closed or bare stream
         return False
+    return terminal and os.environ.get("TERM") != "dumb"
 
 
 def error_line(message: str) -> None:
-    print(f"xodrlint: {message}", file=sys.stderr)
+    """``message`` on stderr as one ``xodrlint:`` line. A reader of stderr that stopped
+    early (``2>&1 | head``) is no error of the run: the rest of what it says is dropped,
+    and the run goes on to write its reports and exit as it would have."""
+    try:
+        print(f"xodrlint: {message}", file=sys.stderr, flush=True)
+    except BrokenPipeError:
+        release(sys.stderr)
 
 
-def release_stdout() -> None:
-    """Let standard output go when its reader stopped early (``check | head``): what is
-    still buffered, and anything written later, goes to the null device, so neither the
-    rest of the run nor the exit's flush meets the closed pipe again."""
+def release(stream: TextIO) -> None:
+    """Let a standard stream go when its reader stopped early (``check | head``): what
+    is still buffered, and anything written later, goes to the null device, so neither
+    the rest of the run nor the exit's flush meets the closed pipe again."""
     try:
         devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
+        os.dup2(devnull, stream.fileno())
         os.close(devnull)
     except (OSError, ValueError, AttributeError):  # no descriptor (an embedding's stream)
-        sys.stdout = Path(os.devnull).open("w", encoding="utf-8")  # noqa: SIM115 (for the run)
+        replacement = Path(os.devnull).open("w", encoding="utf-8")  # noqa: SIM115 (the run's)
+        if stream is sys.stdout:
+            sys.stdout = replacement
+        elif stream is sys.stderr:
+            sys.stderr = replacement
 
 
 def write_output(output: str | None, render: Render) -> None:

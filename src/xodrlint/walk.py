@@ -197,9 +197,7 @@ class WalkRules:
             return "", _NO_CHAIN
         # notes name the files above as the command line named top: relative if it was
         root = found if top.is_absolute() else Path(os.path.relpath(found))
-        exclude = _info_exclude(root / ".git")
-        read = files.get(exclude, "") if exclude is not None else None
-        chain: _Chain = ((), (), (read,) if read else ())
+        chain = _repository(root, files)
         relative = ""
         for name in real.relative_to(found).parts:
             chain = _entered(chain, root / relative, relative, files)
@@ -227,7 +225,12 @@ class WalkRules:
             self.excluded += 1
             return False
         # the spelling os.walk gives the folder when it enters it
-        self._where[os.path.join(current, name)] = path + "/", chain  # noqa: PTH118
+        entered = os.path.join(current, name)  # noqa: PTH118
+        if os.path.lexists(os.path.join(entered, ".git")):  # noqa: PTH118
+            # a repository of its own: git asks its ignore files, not the outer ones
+            self._where[entered] = "", _repository(Path(entered), self.files)
+        else:
+            self._where[entered] = path + "/", chain
         return True
 
     def keeps_file(self, current: str, name: str) -> bool:
@@ -240,6 +243,14 @@ class WalkRules:
             self.excluded += 1
             return False
         return True
+
+
+def _repository(root: Path, files: IgnoreFiles) -> _Chain:
+    """The ignore files that apply at the top of the repository in ``root``: its
+    ``info/exclude`` (its ``.gitignore`` and ``.ignore`` are read on entering it)."""
+    exclude = _info_exclude(root / ".git")
+    read = files.get(exclude, "") if exclude is not None else None
+    return ((), (), (read,) if read else ())
 
 
 def _entered(chain: _Chain, folder: Path, relative: str, files: IgnoreFiles) -> _Chain:

@@ -53,7 +53,7 @@ from xodrlint.engine import (
 from xodrlint.findings import NO_ENTRIES, FileReport, RunResult
 from xodrlint.formatters import Formatter, available, get_formatter, warnings_of
 from xodrlint.messages import one_line, plural
-from xodrlint.output import error_line, write_output
+from xodrlint.output import STDOUT, error_line, write_output
 from xodrlint.registry import Registry
 from xodrlint.validation.sets import Origin, SchemaLoadError
 from xodrlint.workers.batch import Task, default_jobs, lint_tasks
@@ -194,7 +194,8 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
     if request.verbose:
         from xodrlint.cli.verbose import describe_run
 
-        describe_run(settings, (rule.code for rule in linter.rules), len(inputs), _jobs(request))
+        readable = sum(1 for item in inputs if item.error is None)
+        describe_run(settings, (rule.code for rule in linter.rules), readable, _jobs(request))
     try:
         reports = _lint(linter, settings, inputs, request)
     except SchemaLoadError as error:
@@ -205,7 +206,8 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
 
         for report in reports:
             describe_file(report)
-        describe_end(len(reports), time.perf_counter() - started)
+        linted = sum(1 for report in reports if report.error is None)
+        describe_end(linted, time.perf_counter() - started)
     root = str(Path.cwd())
     for report in reports:
         if report.error:
@@ -235,6 +237,11 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
     written += [(report.flag, report.path, report_renderer(f, result)) for report, f in extra]
     if not write_reports(written):
         return 2
+    if settings.output_format == "concise" and not request.statistics:
+        # the concise report is findings only: what was not checked goes to stderr,
+        # after them (where both reach one log, as in pre-commit's)
+        for note in result.notes:
+            error_line(f"note: {one_line(note)}")
     _left_out(formatter, extra)
     return exit_code(reports, settings.fail_on, request.exit_zero)
 
@@ -297,12 +304,15 @@ _LAST_LINTER: list[Linter] = []
 def _formatter(
     name: str, request: CheckRequest, settings: Settings, flag: str | None = None
 ) -> Formatter:
+    # styles are for a terminal or a log (--color, FORCE_COLOR); a file is for reading
+    # later: plain, as ruff writes its --output-file
+    to_file = flag is not None or request.output not in (None, STDOUT)
     try:
         return get_formatter(
             name,
             show_source=request.show_source,
             quiet=request.quiet,
-            color=request.color,
+            color="never" if to_file else request.color,
             sarif_max_results=settings.sarif_max_results,
         )
     except KeyError:
@@ -373,6 +383,9 @@ def _check_targets(
     another output."""
     targets: list[tuple[str, str | None]]
     read: dict[str, Path | None] = {"the config file": settings.config_file}
+    if request.write_baseline is not None and (extra or request.output not in (None, STDOUT)):
+        given = extra[0][0].flag if extra else f"--output {request.output}"
+        raise UsageError(f"{given}: --write-baseline writes the baseline and no report")
     if request.write_baseline is not None:  # it may replace the baseline it reads
         targets = [(f"--write-baseline {request.write_baseline}", str(request.write_baseline))]
     else:

@@ -8,10 +8,10 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Final
 
-from xodrlint.api import STDIN, Input, collect_inputs, os_reason, printable_path, too_large
+from xodrlint.api import STDIN, Input, collect_inputs, printable_path, too_large
 from xodrlint.config import Settings, any_match
 from xodrlint.messages import one_line
-from xodrlint.output import error_line, release_stdout, write_output
+from xodrlint.output import error_line
 
 
 def collect(paths: Sequence[str], settings: Settings) -> list[Input]:
@@ -53,14 +53,12 @@ def show_files(inputs: list[Input], stdin_filename: str | None) -> int:
         for item in inputs
         if item.error is None
     ]
-    try:
-        write_output(None, lambda stream: stream.writelines(f"{name}\n" for name in names))
-    except BrokenPipeError:  # a reader that stopped early (| head) has what it wanted
-        release_stdout()
-    except OSError as error:
-        error_line(f"standard output: cannot write: {os_reason(error)}")
-        return 2
-    return 2 if any(item.error for item in inputs) else 0
+    from xodrlint.cli.reports import write_reports
+
+    listed = write_reports(
+        [("--show-files", None, lambda stream: stream.writelines(f"{n}\n" for n in names))]
+    )
+    return 2 if not listed or any(item.error for item in inputs) else 0
 
 
 #: Standard input is read in pieces this large, so that a limit of gigabytes is never

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import os
+import sys
 from collections import Counter
 from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
@@ -16,8 +17,7 @@ from xodrlint.api import os_reason
 from xodrlint.files import overwrites
 from xodrlint.findings import RunResult
 from xodrlint.formatters import Formatter
-from xodrlint.formatters.json import FORMAT_VERSION, summary
-from xodrlint.output import STDOUT, error_line, release_stdout, write_output
+from xodrlint.output import STDOUT, error_line, release, write_output
 
 #: The formats that hold ``--statistics``: a table for people, a document for programs.
 STATISTICS_FORMATS: Final = ("text", "concise", "json")
@@ -120,7 +120,7 @@ def write_reports(written: Iterable[tuple[str, str | None, Render]]) -> bool:
                 error_line(f"{flag}: cannot write: broken pipe")
                 complete = False
                 continue
-            release_stdout()
+            release(sys.stdout)
         except OSError as error:
             where = "standard output" if path in (None, STDOUT) else flag
             error_line(f"{where}: cannot write: {os_reason(error)}")
@@ -165,6 +165,8 @@ def _statistics_table(result: RunResult, stream: TextIO) -> None:
 
 def _statistics_json(result: RunResult, stream: TextIO) -> None:
     """The document ``docs/json-statistics.schema.json`` describes."""
+    from xodrlint.formatters.json import FORMAT_VERSION, summary  # a statistics run's
+
     document = {
         "format_version": FORMAT_VERSION,
         "tool": {"name": "xodrlint", "version": result.tool_version},

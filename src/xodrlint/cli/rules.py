@@ -6,7 +6,7 @@ from __future__ import annotations
 import sys
 
 from xodrlint.api import default_registry
-from xodrlint.output import color_wanted, is_terminal
+from xodrlint.output import color_wanted, interactive
 from xodrlint.output import error_line as _error
 
 
@@ -49,13 +49,12 @@ def print_rules(output_format: str) -> int:
 
 
 def explain_rule(token: str, color: str | None = None) -> int:
-    """Print a rule's page: drawn from its Markdown on a terminal, styled as ``color``
-    (see :func:`~xodrlint.output.color_wanted`) says; the Markdown itself elsewhere."""
+    """Print a rule's page: drawn from its Markdown on a terminal or where ``color``
+    (see :func:`~xodrlint.output.color_wanted`) asks for styles; else the Markdown."""
     found = default_registry().find(token)
     if found is None:
         _error(f"no rule '{token}' (see 'xodrlint rules')")
         return 2
-    from rich.console import Console
     from rich.markdown import Markdown
 
     meta = found.meta
@@ -67,10 +66,13 @@ def explain_rule(token: str, color: str | None = None) -> int:
         + "\n\n"
     )
     body = meta.doc.split("\n", 1)[1] if "\n" in meta.doc else ""
-    if is_terminal(sys.stdout):
-        styled = color_wanted(color, sys.stdout)
-        console = Console(highlight=False, color_system="auto" if styled else None)
-        console.print(Markdown(header + meta.summary + "\n" + body))
+    styled = color_wanted(color, sys.stdout)
+    if styled or interactive(sys.stdout):
+        from xodrlint.formatters.text import styled_console
+
+        styled_console(sys.stdout, "always" if styled else "never").print(
+            Markdown(header + meta.summary + "\n" + body)
+        )
     else:
         sys.stdout.write(header + meta.summary + "\n" + body + "\n")
     return 0

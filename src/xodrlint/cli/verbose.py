@@ -8,9 +8,9 @@ from collections.abc import Iterable, Mapping
 
 from xodrlint.config import Settings
 from xodrlint.findings import FileReport
-from xodrlint.messages import one_line
+from xodrlint.messages import one_line, plural
 from xodrlint.output import error_line
-from xodrlint.workers.batch import MIN_FILES_FOR_WORKERS
+from xodrlint.workers.batch import uses_workers
 
 #: How stages are named on the line, in the order they run.
 STAGE_LABELS = {
@@ -34,8 +34,7 @@ def describe_run(settings: Settings, rules: Iterable[str], files: int, jobs: int
     error_line(f"config: {config}" if config is not None else "config: none (defaults)")
     codes = sorted(rules)
     error_line(f"rules: {len(codes)} selected ({', '.join(codes)})")
-    pooled = jobs > 1 and files >= MIN_FILES_FOR_WORKERS
-    workers = f"{jobs} worker processes" if pooled else "this process"
+    workers = f"{jobs} worker processes" if uses_workers(jobs, files) else "this process"
     error_line(f"files: {files}, linted in {workers}")
 
 
@@ -63,4 +62,4 @@ def _stages(timings: Mapping[str, float]) -> str:
 
 
 def describe_end(files: int, elapsed: float) -> None:
-    error_line(f"linted {files} file{'' if files == 1 else 's'} in {seconds(elapsed)}")
+    error_line(f"linted {plural(files, 'file')} in {seconds(elapsed)}")

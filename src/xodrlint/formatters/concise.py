@@ -1,9 +1,8 @@
 """One line per finding, ``path:line:column: CODE [severity] message``, for editors and
 grep (``path:line: ...`` where a finding has no column: a parse error libxml2 gave none).
 
-Nothing else in the report: no summary. The run's notes (what was not checked: only
-railroad elements, against the built-in schema) go to stderr after the findings, as
-``xodrlint: note: ...``, with or without ``--quiet``, so the report stays findings only.
+Nothing else in the report: no summary, no notes (the command prints the run's notes,
+what was not checked, on stderr after the findings, with or without ``--quiet``).
 Files that could not be read are not findings (the CLI reports them on stderr). Paths are
 as given on the command line, like the text report's; a line break inside a message
 becomes a space, so each finding stays one line.
@@ -15,7 +14,6 @@ from typing import TextIO
 
 from xodrlint.findings import Finding, RunResult
 from xodrlint.messages import one_line
-from xodrlint.output import error_line
 
 from ._common import single_line
 
@@ -27,10 +25,6 @@ class ConciseFormatter:
     def render(self, result: RunResult, stream: TextIO) -> None:
         for finding in result.findings:
             stream.write(line(finding) + "\n")
-        if result.notes:
-            stream.flush()  # where both reach one log (pre-commit), the note comes last
-            for note in result.notes:
-                error_line(f"note: {one_line(note)}")
 
 
 def line(finding: Finding) -> str:

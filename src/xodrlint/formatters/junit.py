@@ -2,7 +2,7 @@
 
 One ``testsuite`` per input file (named by its path relative to the run's root), one
 failing ``testcase`` per finding (with a ``failure`` whose type is the code and whose
-text is ``path:line: CODE [severity] message`` and the XPath), and one passing
+text is ``path:line:column: CODE [severity] message`` and the XPath), and one passing
 ``testcase`` named ``xodrlint`` for a file without findings. A file that could not be
 read, or on which a rule crashed, has a ``testcase`` with an ``error`` instead.
 
@@ -118,9 +118,10 @@ def _failure_case(finding: Finding, path: str) -> etree._Element:
     failure = etree.SubElement(
         case, "failure", message=xml_text(finding.message), type=finding.code
     )
+    column = "" if finding.column is None else f":{finding.column}"
     failure.text = xml_text(
-        f"{path}:{finding.line}: {finding.code} [{finding.severity}] {finding.message}\n"
-        f"{finding.xpath}"
+        f"{path}:{finding.line}{column}: {finding.code} [{finding.severity}] "
+        f"{finding.message}\n{finding.xpath}"
     )
     return case
 

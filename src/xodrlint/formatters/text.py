@@ -7,7 +7,6 @@ like ``[@id='3']`` survive, and lines are never wrapped when the output is piped
 from __future__ import annotations
 
 import errno
-import os
 from typing import Final, TextIO
 
 from rich.console import Console
@@ -15,7 +14,7 @@ from rich.text import Text
 
 from xodrlint.findings import FileReport, Finding, RunResult, Severity
 from xodrlint.messages import one_line, plural
-from xodrlint.output import color_wanted, is_terminal
+from xodrlint.output import color_wanted, interactive
 
 STYLE: Final = {
     Severity.ERROR: "bold red",
@@ -35,9 +34,10 @@ class _Console(Console):
 def styled_console(stream: TextIO, color: str | None) -> Console:
     """A console on ``stream`` that styles text only where :func:`color_wanted` says so:
     never a code in a pipe or under ``NO_COLOR``, colour on demand in a CI log."""
-    if not color_wanted(color, stream):
+    wanted = color_wanted(color, stream)
+    if not wanted:
         system = None  # no style at all: rich's own NO_COLOR keeps bold and underline
-    elif is_terminal(stream) and os.environ.get("TERM") != "dumb":
+    elif interactive(stream):
         system = "auto"
     else:
         system = "standard"  # forced where rich, detecting, would choose none
@@ -47,7 +47,8 @@ def styled_console(stream: TextIO, color: str | None) -> Console:
         highlight=False,
         emoji=False,
         color_system=system,  # type: ignore[arg-type]  # rich's Literal of the names
-        force_terminal=system is not None,
+        force_terminal=wanted,
+        no_color=not wanted,  # else rich reads NO_COLOR itself, over --color always
     )
 
 

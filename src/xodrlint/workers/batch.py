@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Final, NamedTuple
 
 from xodrlint.engine import ExternalIgnores, Linter, LintOptions
 from xodrlint.findings import FileReport
+from xodrlint.output import interactive
 from xodrlint.registry import load_registry
 from xodrlint.workers import background
 
@@ -74,6 +75,11 @@ def _lint_chunk(worker: LintTask, chunk: Sequence[Task]) -> list[FileReport]:
     return [worker(task) for task in chunk]
 
 
+def uses_workers(jobs: int, files: int) -> bool:
+    """Whether :func:`lint_tasks` lints ``files`` files in worker processes."""
+    return jobs > 1 and files >= MIN_FILES_FOR_WORKERS
+
+
 def default_jobs() -> int:
     return max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1)
 
@@ -87,7 +93,7 @@ def lint_tasks(
     worker: LintTask = lint_in_worker,
 ) -> list[FileReport]:
     """Reports for ``tasks``, in their order; ``jobs`` > 1 lints in worker processes."""
-    if jobs <= 1 or len(tasks) < MIN_FILES_FOR_WORKERS:
+    if not uses_workers(jobs, len(tasks)):
         done = []
         with _Progress(len(tasks), enabled=progress) as bar:
             for task in tasks:
@@ -216,7 +222,7 @@ def _size(path: Path) -> int:
 def progress_wanted() -> bool:
     """Whether stderr is a person's terminal: never a pipe, a file or a CI job's log
     (some CI runners give jobs a terminal, and a bar redrawn there fills the log)."""
-    return sys.stderr.isatty() and not os.environ.get("CI") and os.environ.get("TERM", "") != "dumb"
+    return interactive(sys.stderr) and not os.environ.get("CI")
 
 
 class _Progress:
