@@ -180,7 +180,7 @@ def test_a_process_running_threads_gets_fresh_workers_not_forks(
     def no_fork(*_: object) -> list[int]:
         raise AssertionError("forked a process that runs threads")
 
-    monkeypatch.setattr(forkpool, "run_pieces", no_fork)
+    monkeypatch.setattr(forkpool, "stream_pieces", no_fork)
     paths = []
     for index in range(6):
         paths.append(tmp_path / f"map{index}.xodr")

@@ -1,4 +1,5 @@
-"""Batch runs: many files over worker processes, reports in input order whatever the count.
+"""Batch runs: many files over worker processes, each report handed on as soon as its
+file is done (:func:`stream_tasks`) or all of them in input order (:func:`lint_tasks`).
 
 Each worker builds its own :class:`~xodrlint.engine.Linter` once (so each schema is
 compiled once per worker, not once per file) and lints the files it is handed. A file
@@ -9,14 +10,15 @@ the other files go on.
 
 from __future__ import annotations
 
+import contextlib
 import gc
 import os
 import sys
 import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Generator, Iterator, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Final, NamedTuple
+from typing import TYPE_CHECKING, Final, NamedTuple, Protocol, cast
 
 from xodrlint.engine import ExternalIgnores, Linter, LintOptions
 from xodrlint.findings import FileReport
@@ -44,6 +46,18 @@ class Task(NamedTuple):
 
 
 LintTask = Callable[[Task], FileReport]
+
+#: What an engine yields: each file's report with the index of its task, as files
+#: complete (not in input order). The forked pool (:func:`stream_tasks`) and the Dask
+#: engine (``workers/dask.py``) have this shape; :func:`in_order` puts one in order.
+ReportStream = Iterator[tuple[int, FileReport]]
+
+
+class Engine(Protocol):
+    """What lints a run's tasks: the forked pool, Dask, or one process."""
+
+    def __call__(self, tasks: Sequence[Task], /) -> ReportStream: ...
+
 
 #: Whether batch runs fork their workers where they can (tests turn it off to run the
 #: portable executor).
@@ -76,7 +90,8 @@ def _lint_chunk(worker: LintTask, chunk: Sequence[Task]) -> list[FileReport]:
 
 
 def uses_workers(jobs: int, files: int) -> bool:
-    """Whether :func:`lint_tasks` lints ``files`` files in worker processes."""
+    """Whether :func:`stream_tasks` (and so :func:`lint_tasks`) lints ``files`` files in
+    worker processes."""
     return jobs > 1 and files >= MIN_FILES_FOR_WORKERS
 
 
@@ -93,63 +108,100 @@ def lint_tasks(
     worker: LintTask = lint_in_worker,
 ) -> list[FileReport]:
     """Reports for ``tasks``, in their order; ``jobs`` > 1 lints in worker processes."""
+    return in_order(stream_tasks(linter, tasks, jobs, progress=progress, worker=worker), len(tasks))
+
+
+def in_order(stream: ReportStream, count: int) -> list[FileReport]:
+    """The reports of a stream over ``count`` tasks, in the tasks' order."""
+    reports: list[FileReport | None] = [None] * count
+    for index, report in stream:
+        reports[index] = report
+    missing = [index for index, report in enumerate(reports) if report is None]
+    if missing:  # an engine that loses a file is a bug, never a shorter report
+        raise RuntimeError(f"the engine gave no report for task {missing[0]} of {count}")
+    return cast("list[FileReport]", reports)
+
+
+def stream_tasks(
+    linter: Linter,
+    tasks: Sequence[Task],
+    jobs: int,
+    *,
+    progress: bool = False,
+    worker: LintTask = lint_in_worker,
+) -> Generator[tuple[int, FileReport], None, None]:
+    """Each task's report with its index in ``tasks``, as soon as it is done: one by one
+    in their order in this process, a message's worth at a time (largest files first)
+    from worker processes when ``jobs`` > 1."""
     if not uses_workers(jobs, len(tasks)):
-        done = []
         with _Progress(len(tasks), enabled=progress) as bar:
-            for task in tasks:
-                done.append(linter.lint_path(task.path, task.display, task.external))
+            for index, task in enumerate(tasks):
+                yield index, linter.lint_path(task.path, task.display, task.external)
                 bar.advance()
-        return done
+        return
     # Compile the first file's schema here, once: forked workers inherit it.
     linter.warm_up(tasks[0].path)
     _WORKER["linter"] = linter
-    reports: dict[int, FileReport] = {}
     everything = range(len(tasks))
     # The collector of a forked worker walks every object it inherited, and touching one
     # copies its memory page: frozen, the parent's objects stay shared while the pool runs.
     gc.freeze()
     try:
-        pending = _run_pool(linter.options, tasks, everything, jobs, worker, reports, progress)
+        pending = yield from _stream_pool(linter.options, tasks, everything, jobs, worker, progress)
     finally:
         gc.unfreeze()
     for index in pending:  # each file of a chunk that broke a pool gets a worker alone
-        alone = _run_pool(linter.options, tasks, [index], 1, worker, reports, False)
+        alone = yield from _stream_pool(linter.options, tasks, [index], 1, worker, False)
         if alone:
             task = tasks[index]
-            reports[index] = FileReport(
-                task.display, error=f"{task.display}: the worker linting it crashed"
+            yield (
+                index,
+                FileReport(task.display, error=f"{task.display}: the worker linting it crashed"),
             )
-    return [reports[index] for index in range(len(tasks))]
 
 
-def _run_pool(
+def _stream_pool(
     options: LintOptions,
     tasks: Sequence[Task],
     indexes: Sequence[int],
     jobs: int,
     worker: LintTask,
-    reports: dict[int, FileReport],
     progress: bool,
-) -> list[int]:
-    """Lint ``indexes`` in worker processes; the indexes whose worker died are returned."""
+) -> Generator[tuple[int, FileReport], None, list[int]]:
+    """Lint ``indexes`` in worker processes, yielding each report as its message comes
+    back; returns the indexes whose worker died."""
     chunks = schedule(indexes, [_size(tasks[i].path) for i in indexes], jobs)
+
+    def lint_chunk(number: int) -> list[FileReport]:
+        return _lint_chunk(worker, [tasks[i] for i in chunks[number]])
+
     with _Progress(len(indexes), enabled=progress) as bar:
-
-        def deliver(number: int, done: list[FileReport]) -> None:
-            reports.update(zip(chunks[number], done, strict=True))
-            bar.advance(len(done))
-
-        def lint_chunk(number: int) -> list[FileReport]:
-            return _lint_chunk(worker, [tasks[i] for i in chunks[number]])
-
         if _can_fork_workers():
             # imported here: a single-file run (a pre-commit hook) never starts workers
-            from xodrlint.workers.forkpool import run_pieces
+            from xodrlint.workers.forkpool import stream_pieces
 
-            broken = run_pieces(len(chunks), lint_chunk, jobs, deliver)
+            messages = stream_pieces(len(chunks), lint_chunk, jobs)
         else:
-            broken = _run_executor(options, chunks, tasks, jobs, worker, deliver)
+            messages = _stream_executor(options, chunks, tasks, jobs, worker)
+        with contextlib.closing(messages):
+            broken = yield from _reports_of(messages, chunks, bar)
     return [index for number in broken for index in chunks[number]]
+
+
+def _reports_of(
+    messages: Generator[tuple[int, list[FileReport]], None, list[int]],
+    chunks: list[list[int]],
+    bar: _Progress,
+) -> Generator[tuple[int, FileReport], None, list[int]]:
+    """Each message's reports as ``(task index, report)``; returns the broken messages."""
+    while True:
+        try:
+            number, done = next(messages)
+        except StopIteration as finished:
+            broken: list[int] = finished.value
+            return broken
+        bar.advance(len(done))
+        yield from zip(chunks[number], done, strict=True)
 
 
 def _can_fork_workers() -> bool:
@@ -159,16 +211,16 @@ def _can_fork_workers() -> bool:
     return FORK_WORKERS and hasattr(os, "fork") and threading.active_count() == 1
 
 
-def _run_executor(
+def _stream_executor(
     options: LintOptions,
     chunks: list[list[int]],
     tasks: Sequence[Task],
     jobs: int,
     worker: LintTask,
-    deliver: Callable[[int, list[FileReport]], None],
-) -> list[int]:
+) -> Generator[tuple[int, list[FileReport]], None, list[int]]:
     """Where workers cannot be forked (Windows, a process with threads): fresh workers,
-    each building its own linter."""
+    each building its own linter. Yields ``(message number, reports)`` as messages come
+    back; returns the messages whose pool broke."""
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
     from concurrent.futures.process import BrokenProcessPool
@@ -183,13 +235,17 @@ def _run_executor(
             for number, chunk in enumerate(chunks)
         }
         broken = []
-        for future in as_completed(futures):
-            try:
-                done = future.result()
-            except BrokenProcessPool:  # the caller retries those files one by one
-                broken.append(futures[future])
-                continue
-            deliver(futures[future], done)
+        try:
+            for future in as_completed(futures):
+                try:
+                    done = future.result()
+                except BrokenProcessPool:  # the caller retries those files one by one
+                    broken.append(futures[future])
+                    continue
+                yield futures[future], done
+        finally:  # a caller that stops early leaves no file queued behind it
+            for future in futures:
+                future.cancel()
     return broken
 
 

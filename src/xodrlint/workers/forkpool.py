@@ -19,7 +19,7 @@ import selectors
 import signal
 import struct
 from collections import deque
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Generator, Iterator
 from typing import Final, Generic, TypeVar
 
 _T = TypeVar("_T")
@@ -44,6 +44,27 @@ def run_pieces(
 
     An exception ``run`` raises in a worker is raised here, as a call in the parent
     would raise it.
+    """
+    with contextlib.closing(stream_pieces(count, run, jobs)) as pieces:
+        while True:
+            try:
+                number, value = next(pieces)
+            except StopIteration as done:
+                died: list[int] = done.value
+                return died
+            deliver(number, value)
+
+
+def stream_pieces(
+    count: int, run: Callable[[int], _T], jobs: int
+) -> Generator[tuple[int, _T], None, list[int]]:
+    """:func:`run_pieces` as a generator: ``(number, result)`` pairs as results arrive,
+    and, as its return value (``died = yield from stream_pieces(...)``), the pieces
+    whose worker died.
+
+    Between two results the workers go on with the pieces they hold, however long the
+    caller takes with one; a caller that stops early (or is interrupted) closes the
+    generator, which stops every worker at once.
     """
     import pickle  # a run that never forks never needs it
 
@@ -72,8 +93,9 @@ def run_pieces(
                             value = pickle.loads(payload)
                             if outcome == _FAILED:
                                 raise value
-                            deliver(number, value)
+                            # the next piece goes out before the caller sees this one
                             worker.hand_out(waiting)
+                            yield number, value
                         continue
                     selector.unregister(worker.results)  # end of file: the worker is gone
                     worker.stop(kill=False)
