@@ -111,7 +111,7 @@ def test_missing_file_is_exit_2_and_the_other_paths_are_still_linted(tmp_path: P
         (["--ignore", "nonsense"], "'nonsense' matches no rule code, name or UID"),
         (
             ["-f", "xml"],
-            "unknown output format 'xml' (choose from concise, github, gitlab, json, junit, sarif, text, xqar)",
+            "unknown output format 'xml' (choose from concise, github, gitlab, json, jsonl, junit, sarif, text, xqar)",
         ),
         (["--schema", "/nowhere/at/all"], "--schema /nowhere/at/all: no such file or folder"),
     ],

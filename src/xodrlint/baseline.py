@@ -72,17 +72,22 @@ def apply_baseline(
 ) -> list[FileReport]:
     """The reports without the findings the baseline records (kept as suppressed if ``keep``)."""
     remaining = Counter(recorded)
-    result = []
-    for report in reports:
-        kept, withheld = [], []
-        for finding, fingerprint in zip(
-            report.findings, fingerprints(report.findings, root), strict=True
-        ):
-            if remaining[fingerprint] > 0:
-                remaining[fingerprint] -= 1
-                withheld.append(Suppressed(finding, "external", JUSTIFICATION))
-            else:
-                kept.append(finding)
-        suppressed = (*report.suppressed, *withheld) if keep else report.suppressed
-        result.append(report._replace(findings=tuple(kept), suppressed=suppressed))
-    return result
+    return [withhold_recorded(report, remaining, root, keep=keep) for report in reports]
+
+
+def withhold_recorded(
+    report: FileReport, remaining: Counter[str], root: str, *, keep: bool
+) -> FileReport:
+    """One report without the findings ``remaining`` still records, each taken from it: a
+    streaming run applies the baseline file by file, as files complete, with one counter."""
+    kept, withheld = [], []
+    for finding, fingerprint in zip(
+        report.findings, fingerprints(report.findings, root), strict=True
+    ):
+        if remaining[fingerprint] > 0:
+            remaining[fingerprint] -= 1
+            withheld.append(Suppressed(finding, "external", JUSTIFICATION))
+        else:
+            kept.append(finding)
+    suppressed = (*report.suppressed, *withheld) if keep else report.suppressed
+    return report._replace(findings=tuple(kept), suppressed=suppressed)

@@ -3,12 +3,10 @@ report. The CLI hands over a :class:`CheckRequest` and gets an exit code back.""
 
 from __future__ import annotations
 
-import json
-import sys
 import time
 from collections.abc import Mapping
 from pathlib import Path
-from typing import NamedTuple, TextIO
+from typing import TYPE_CHECKING, NamedTuple
 
 from xodrlint import __version__
 from xodrlint.api import (
@@ -16,27 +14,33 @@ from xodrlint.api import (
     Input,
     default_registry,
     exit_code,
-    os_reason,
-    printable_path,
 )
 from xodrlint.baseline import BaselineError
-from xodrlint.cli.inputs import collect, read_stdin, show_files
-from xodrlint.cli.notes import run_notes
+from xodrlint.cli.inputs import InputsError, check_stdin, collect, show_files
+from xodrlint.cli.notes import run_notes, say_notes
 from xodrlint.cli.reports import (
     ExtraReport,
     OutputRefused,
+    check_outputs,
     check_statistics_format,
-    check_targets,
     parse_reports,
     report_renderer,
     statistics_renderer,
+    write_baseline,
     write_reports,
+)
+from xodrlint.cli.stream import (
+    Source,
+    Streamed,
+    StreamingRefused,
+    check_streamable,
+    run_stream,
+    stream_inputs,
 )
 from xodrlint.config import (
     COMMAND_LINE,
     ConfigError,
     Settings,
-    any_match,
     find_config,
     parse_size,
     read_config,
@@ -51,12 +55,15 @@ from xodrlint.engine import (
     select_rules,
 )
 from xodrlint.findings import NO_ENTRIES, FileReport, RunResult
-from xodrlint.formatters import Formatter, available, get_formatter, warnings_of
-from xodrlint.messages import one_line, plural
-from xodrlint.output import STDOUT, error_line, write_output
+from xodrlint.formatters import Formatter, available, get_formatter, streaming, warnings_of
+from xodrlint.messages import one_line
+from xodrlint.output import STDOUT, error_line
 from xodrlint.registry import Registry
 from xodrlint.validation.sets import Origin, SchemaLoadError
-from xodrlint.workers.batch import Task, default_jobs, lint_tasks
+from xodrlint.workers.batch import default_jobs, in_order, stream_tasks
+
+if TYPE_CHECKING:
+    from collections import Counter
 
 
 class CheckRequest(NamedTuple):
@@ -156,30 +163,24 @@ def _max_file_size(given: str | None) -> int | None:
         raise UsageError(f"--max-file-size {given}: expected {expected}") from None
 
 
+class _Plan(NamedTuple):
+    """A check ready to lint: everything refused before linting has been."""
+
+    settings: Settings
+    linter: Linter
+    formatter: Formatter
+    extra: list[tuple[ExtraReport, Formatter]]
+    inputs: list[Input]
+    recorded: Counter[str] | None
+
+
 def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
     """Run a check; ``formatter`` replaces the one the output format names (``qc``)."""
     registry = default_registry()
     for warning in registry.warnings:
         error_line(f"warning: {warning}")
     try:
-        settings, linter = prepare_linter(registry, request)
-        formatter = formatter or _formatter(settings.output_format, request, settings)
-        extra = [
-            (report, _formatter(report.format, request, settings, report.flag))
-            for report in parse_reports(request.reports)
-        ]
-        if request.statistics:
-            check_statistics_format(settings.output_format)
-        _check_stdin(request)
-        inputs = collect(request.paths, settings)
-        if request.show_files:
-            return show_files(inputs, request.stdin_filename)
-        _check_targets(request, settings, inputs, extra)
-        recorded = None
-        if request.baseline is not None:
-            from xodrlint.baseline import load_baseline
-
-            recorded = load_baseline(request.baseline)
+        plan = _plan(registry, request, formatter)
     except (
         ConfigError,
         SelectorError,
@@ -187,17 +188,26 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
         UsageError,
         BaselineError,
         OutputRefused,
+        InputsError,
+        StreamingRefused,
     ) as error:
         error_line(str(error))
         return 2
-    started = time.perf_counter()
+    if isinstance(plan, int):  # --show-files
+        return plan
+    settings, linter, formatter, _, inputs, recorded = plan
     if request.verbose:
         from xodrlint.cli.verbose import describe_run
 
         readable = sum(1 for item in inputs if item.error is None)
         describe_run(settings, (rule.code for rule in linter.rules), readable, _jobs(request))
+    source = _source(linter, settings, inputs, request)
+    streamed = None if request.write_baseline else streaming(formatter)
     try:
-        reports = _lint(linter, settings, inputs, request)
+        if streamed is not None:
+            return run_stream(source, streamed, Streamed.of(request, recorded))
+        started = time.perf_counter()
+        reports = in_order(stream_inputs(source), len(inputs))
     except SchemaLoadError as error:
         error_line(str(error))
         return 2
@@ -208,6 +218,50 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
             describe_file(report)
         linted = sum(1 for report in reports if report.error is None)
         describe_end(linted, time.perf_counter() - started)
+    return _report(registry, request, plan, reports)
+
+
+def _plan(registry: Registry, request: CheckRequest, formatter: Formatter | None) -> _Plan | int:
+    """What the check lints and writes, each refused before linting when it cannot be
+    (raising the errors :func:`run_check` makes one line of); ``--show-files`` is done
+    here, and its exit code returned."""
+    settings, linter = prepare_linter(registry, request)
+    formatter = formatter or _formatter(settings.output_format, request, settings)
+    extra = [
+        (report, _formatter(report.format, request, settings, report.flag))
+        for report in parse_reports(request.reports)
+    ]
+    if request.statistics:
+        check_statistics_format(settings.output_format)
+    if not request.write_baseline and streaming(formatter) is not None:
+        check_streamable(settings.output_format, (report for report, _ in extra))
+    check_stdin(request.paths, request.stdin_filename)
+    inputs = collect(request.paths, settings)
+    if request.show_files:
+        return show_files(inputs, request.stdin_filename)
+    read_only = (item.path for item in inputs if item.path is not None)
+    check_outputs(
+        request.output,
+        extra,
+        request.write_baseline,
+        read_only,
+        settings.config_file,
+        request.baseline,
+    )
+    recorded = None
+    if request.baseline is not None:
+        from xodrlint.baseline import load_baseline
+
+        recorded = load_baseline(request.baseline)
+    return _Plan(settings, linter, formatter, extra, inputs, recorded)
+
+
+def _report(
+    registry: Registry, request: CheckRequest, plan: _Plan, reports: list[FileReport]
+) -> int:
+    """Write the reports of a run that kept them all: its report or statistics and every
+    ``--report`` file, or the baseline; returns the exit code."""
+    settings, linter, formatter, extra, _, recorded = plan
     root = str(Path.cwd())
     for report in reports:
         if report.error:
@@ -215,7 +269,7 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
         for crash in report.internal_errors:
             error_line(f"internal error: {crash}")
     if request.write_baseline is not None:  # every current finding, the baseline's too
-        return _write_baseline(request.write_baseline, reports, root)
+        return write_baseline(request.write_baseline, reports, root)
     if recorded is not None:
         from xodrlint.baseline import apply_baseline
 
@@ -240,8 +294,7 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
     if settings.output_format == "concise" and not request.statistics:
         # the concise report is findings only: what was not checked goes to stderr,
         # after them (where both reach one log, as in pre-commit's)
-        for note in result.notes:
-            error_line(f"note: {one_line(note)}")
+        say_notes(result.notes)
     _left_out(formatter, extra)
     return exit_code(reports, settings.fail_on, request.exit_zero)
 
@@ -322,93 +375,18 @@ def _formatter(
         ) from None
 
 
-def _lint(
+def _source(
     linter: Linter, settings: Settings, inputs: list[Input], request: CheckRequest
-) -> list[FileReport]:
-    stdin, unreadable = (
-        read_stdin(settings.max_file_size) if any(i.is_stdin for i in inputs) else (b"", None)
+) -> Source:
+    jobs = _jobs(request)
+    return Source(
+        linter,
+        settings,
+        inputs,
+        lambda tasks: stream_tasks(linter, tasks, jobs, progress=True),
+        request.stdin_filename,
     )
-    tasks = [
-        Task(item.path, item.display, _per_file_ignores(settings, item.path))
-        for item in inputs
-        if item.path is not None and item.error is None
-    ]
-    linted = iter(lint_tasks(linter, tasks, _jobs(request), progress=True))
-    reports = []
-    for item in inputs:
-        if item.error is not None:
-            reports.append(FileReport(item.display, error=item.error))
-        elif item.is_stdin:
-            name = request.stdin_filename or STDIN
-            external = _per_file_ignores(settings, Path(name)) if request.stdin_filename else ()
-            if unreadable is not None:
-                reports.append(FileReport(name, error=unreadable))
-            else:
-                reports.append(linter.lint_bytes(stdin, name, external))
-        else:
-            reports.append(next(linted))
-    return reports
 
 
 def _jobs(request: CheckRequest) -> int:
     return request.jobs if request.jobs is not None else default_jobs()
-
-
-def _check_stdin(request: CheckRequest) -> None:
-    name = request.stdin_filename
-    if name is not None and printable_path(name) != name:
-        shown = printable_path(name)
-        raise UsageError(f"--stdin-filename {shown}: the name is not valid UTF-8")
-    if request.paths.count(STDIN) > 1:
-        raise UsageError(f"{STDIN} (standard input) is given more than once")
-
-
-def _per_file_ignores(settings: Settings, path: Path) -> tuple[tuple[str, str], ...]:
-    where = f"per-file-ignores in {settings.config_file or 'the command line'}"
-    return tuple(
-        (selector, f"{where} ({glob})")
-        for glob, selectors in settings.per_file_ignores
-        if any_match([glob], path, settings.base)
-        for selector in selectors
-    )
-
-
-def _check_targets(
-    request: CheckRequest,
-    settings: Settings,
-    inputs: list[Input],
-    extra: list[tuple[ExtraReport, Formatter]],
-) -> None:
-    """Refuse, before any linting, an output that would overwrite what the run reads or
-    another output."""
-    targets: list[tuple[str, str | None]]
-    read: dict[str, Path | None] = {"the config file": settings.config_file}
-    if request.write_baseline is not None and (extra or request.output not in (None, STDOUT)):
-        given = extra[0][0].flag if extra else f"--output {request.output}"
-        raise UsageError(f"{given}: --write-baseline writes the baseline and no report")
-    if request.write_baseline is not None:  # it may replace the baseline it reads
-        targets = [(f"--write-baseline {request.write_baseline}", str(request.write_baseline))]
-    else:
-        targets = [(f"--output {request.output}", request.output)]
-        targets += [(report.flag, report.path) for report, _ in extra]
-        read["the baseline"] = request.baseline
-    check_targets(targets, (item.path for item in inputs if item.path is not None), read)
-
-
-def _write_baseline(path: Path, reports: list[FileReport], root: str) -> int:
-    from xodrlint.baseline import baseline_document
-
-    document = baseline_document(reports, root)
-    try:
-        write_output(str(path), lambda stream: _dump(document, stream))
-    except OSError as error:
-        error_line(f"--write-baseline {path}: cannot write: {os_reason(error)}")
-        return 2
-    count = sum(len(r.findings) for r in reports)
-    print(f"xodrlint: recorded {plural(count, 'finding')} in {path}", file=sys.stderr)
-    return 2 if any(r.error for r in reports) else 0
-
-
-def _dump(document: object, stream: TextIO) -> None:
-    json.dump(document, stream, indent=2, ensure_ascii=False)
-    stream.write("\n")

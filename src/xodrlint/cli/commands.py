@@ -111,7 +111,8 @@ def check(
             "--output-format",
             "-f",
             metavar="FORMAT",
-            help="text, concise, json, sarif, github, gitlab, junit, xqar, or a plugin's.",
+            help="text, concise, json, jsonl (written as files are done), sarif, github, "
+            "gitlab, junit, xqar, or a plugin's.",
             rich_help_panel=_OUTPUT,
         ),
     ] = None,

@@ -109,6 +109,18 @@ FORMAT_NOTES: Final = {
     "checked) go to standard error, `xodrlint: note: ...`.",
     "json": "xodrlint's own report; its schema is "
     "[json-output.schema.json](json-output.schema.json).",
+    "jsonl": "JSON Lines, for pipelines: one object per line, each finding as in the JSON "
+    'report, and `{"path": ..., "error": ...}` for a file that could not be read (its schema '
+    "is [jsonl-output.schema.json](jsonl-output.schema.json)). Each file's lines are written "
+    "and flushed as soon as the file is done, in the order files complete (input order with "
+    "`--jobs 1`), and the run keeps no report once written: a reader sees the first findings "
+    "while later files are linted, and memory does not grow with the findings. No summary; "
+    "the notes go to standard error, as in `concise`. Exit codes are those of every format. "
+    "What needs every report at once is refused (exit 2): `--statistics`, and `--report` "
+    "files (for both from one run, make the other the output format: `-f sarif --report "
+    "jsonl=FILE`). With `--output FILE` the file appears whole when the run ends (written "
+    "beside it, then renamed); standard output, or a FIFO named by `--output`, receives "
+    "each line at once. See [distributed.md](distributed.md#streaming-output).",
     "sarif": "SARIF 2.1.0 for GitHub code scanning. Shown here: the results and the "
     "invocation; the real file also describes every rule in `tool.driver.rules` (help "
     "text from the rule's page, UID, aliases, tags).\n\n"
@@ -171,6 +183,7 @@ def formats_page(root: Path) -> str:
         text = stream.getvalue().replace(Path(root).as_uri() + "/", SHOWN_ROOT)
         language = {
             "json": "json",
+            "jsonl": "json",
             "sarif": "json",
             "gitlab": "json",
             "junit": "xml",

@@ -14,6 +14,19 @@ from xodrlint.messages import one_line
 from xodrlint.output import error_line
 
 
+class InputsError(ValueError):
+    """Inputs a check cannot take (``-`` twice): exit 2 with this one line, before
+    linting."""
+
+
+def check_stdin(paths: Sequence[str], stdin_filename: str | None) -> None:
+    if stdin_filename is not None and printable_path(stdin_filename) != stdin_filename:
+        shown = printable_path(stdin_filename)
+        raise InputsError(f"--stdin-filename {shown}: the name is not valid UTF-8")
+    if list(paths).count(STDIN) > 1:
+        raise InputsError(f"{STDIN} (standard input) is given more than once")
+
+
 def collect(paths: Sequence[str], settings: Settings) -> list[Input]:
     """What to lint; files a folder walk met but cannot lint (a FIFO, a device) are left
     out with a note on stderr, and a warning says when nothing at all is left (exit 0,

@@ -4,10 +4,13 @@ from (``schemas fetch`` brings 1.1 to 1.8.0; ASAM publishes the others)."""
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from typing import Final
 
 from xodrlint.document import Version, nearest_published
 from xodrlint.findings import FileReport
+from xodrlint.messages import one_line
+from xodrlint.output import error_line
 from xodrlint.validation.sets import SCHEMA_PATH_ENV
 
 #: The newest version whose official set ``xodrlint schemas fetch`` brings, and where
@@ -39,6 +42,13 @@ def run_notes(reports: list[FileReport]) -> tuple[str, ...]:
             f"or point {SCHEMA_PATH_ENV} or --schema at it"
         )
     return tuple(notes)
+
+
+def say_notes(notes: Iterable[str]) -> None:
+    """The notes on stderr, one ``xodrlint: note: ...`` line each: where a report holds
+    findings only (``concise``, ``jsonl``), after them."""
+    for note in notes:
+        error_line(f"note: {one_line(note)}")
 
 
 def _published(declared: str | None) -> tuple[int, int] | None:

@@ -1,7 +1,7 @@
 """What ``xodrlint check`` writes: its report (or ``--statistics``) and every
-``--report FORMAT=PATH`` file, each refused before any linting when it cannot be written
-safely, each written whole, and standard output let go quietly when its reader stops
-early (``| head``)."""
+``--report FORMAT=PATH`` file, or the baseline of ``--write-baseline``, each refused
+before any linting when it cannot be written safely, each written whole, and standard
+output let go quietly when its reader stops early (``| head``)."""
 
 from __future__ import annotations
 
@@ -15,8 +15,9 @@ from typing import Final, NamedTuple, TextIO
 
 from xodrlint.api import os_reason
 from xodrlint.files import overwrites
-from xodrlint.findings import RunResult
+from xodrlint.findings import FileReport, RunResult
 from xodrlint.formatters import Formatter
+from xodrlint.messages import plural
 from xodrlint.output import STDOUT, error_line, release, write_output
 
 #: The formats that hold ``--statistics``: a table for people, a document for programs.
@@ -60,6 +61,32 @@ def check_statistics_format(name: str) -> None:
             f"--statistics: the {name} format cannot hold statistics "
             f"(use {', '.join(STATISTICS_FORMATS[:-1])} or {STATISTICS_FORMATS[-1]})"
         )
+
+
+def check_outputs(
+    output: str | None,
+    extra: Iterable[tuple[ExtraReport, object]],
+    write_baseline: Path | None,
+    inputs: Iterable[Path],
+    config_file: Path | None,
+    baseline: Path | None,
+) -> None:
+    """Refuse, before any linting, an output of a check that would overwrite what the
+    run reads or another output: its report (``output``) and ``extra`` reports, or the
+    baseline it writes instead (which may replace the baseline it reads)."""
+    targets: list[tuple[str, str | None]]
+    read: dict[str, Path | None] = {"the config file": config_file}
+    extra = list(extra)
+    if write_baseline is not None and (extra or output not in (None, STDOUT)):
+        given = extra[0][0].flag if extra else f"--output {output}"
+        raise OutputRefused(f"{given}: --write-baseline writes the baseline and no report")
+    if write_baseline is not None:
+        targets = [(f"--write-baseline {write_baseline}", str(write_baseline))]
+    else:
+        targets = [(f"--output {output}", output)]
+        targets += [(report.flag, report.path) for report, _ in extra]
+        read["the baseline"] = baseline
+    check_targets(targets, inputs, read)
 
 
 def check_targets(
@@ -188,3 +215,24 @@ def _statistics_json(result: RunResult, stream: TextIO) -> None:
 
 def report_renderer(formatter: Formatter, result: RunResult) -> Render:
     return lambda stream: formatter.render(result, stream)
+
+
+def write_baseline(path: Path, reports: list[FileReport], root: str) -> int:
+    """``--write-baseline FILE``: every finding of ``reports`` recorded in ``path``;
+    returns the exit code (2 when a file could not be read, so was not recorded)."""
+    from xodrlint.baseline import baseline_document
+
+    document = baseline_document(reports, root)
+    try:
+        write_output(str(path), lambda stream: _dump(document, stream))
+    except OSError as error:
+        error_line(f"--write-baseline {path}: cannot write: {os_reason(error)}")
+        return 2
+    count = sum(len(r.findings) for r in reports)
+    print(f"xodrlint: recorded {plural(count, 'finding')} in {path}", file=sys.stderr)
+    return 2 if any(r.error for r in reports) else 0
+
+
+def _dump(document: object, stream: TextIO) -> None:
+    json.dump(document, stream, indent=2, ensure_ascii=False)
+    stream.write("\n")

@@ -10,9 +10,9 @@ Formatters see findings and rule metadata only, never rules or the engine.
 from __future__ import annotations
 
 import importlib
-from typing import TYPE_CHECKING, Any, Final, Protocol, TextIO
+from typing import TYPE_CHECKING, Any, Final, Protocol, TextIO, cast
 
-from xodrlint.findings import RunResult
+from xodrlint.findings import FileReport, RunResult
 
 if TYPE_CHECKING:
     from xodrlint.plugins import Plugin
@@ -23,6 +23,7 @@ ENTRY_POINT_GROUP: Final = "xodrlint.formatters"
 BUILTIN: Final = {
     "text": "xodrlint.formatters.text:TextFormatter",
     "json": "xodrlint.formatters.json:JsonFormatter",
+    "jsonl": "xodrlint.formatters.jsonl:JsonlFormatter",
     "concise": "xodrlint.formatters.concise:ConciseFormatter",
     "github": "xodrlint.formatters.github:GithubFormatter",
     "gitlab": "xodrlint.formatters.gitlab:GitlabFormatter",
@@ -34,6 +35,21 @@ BUILTIN: Final = {
 
 class Formatter(Protocol):
     def render(self, result: RunResult, stream: TextIO) -> None: ...
+
+
+class StreamingFormatter(Formatter, Protocol):
+    """A formatter that can write its report file by file, as files are done, so a run
+    keeps no report once it is written (``jsonl``): ``write_file`` for each file, in the
+    order files complete."""
+
+    def write_file(self, report: FileReport, stream: TextIO) -> None: ...
+
+
+def streaming(formatter: Formatter) -> StreamingFormatter | None:
+    """``formatter`` if it writes file by file (:class:`StreamingFormatter`), else ``None``."""
+    if callable(getattr(formatter, "write_file", None)):
+        return cast("StreamingFormatter", formatter)
+    return None
 
 
 class FormatterOptions(Protocol):

@@ -1,0 +1,281 @@
+"""``xodrlint check``'s reports as files are done: every input's report from an engine
+(:data:`~xodrlint.workers.batch.ReportStream`), and the run of a streaming format
+(``jsonl``), which writes and flushes each file's lines as it completes and keeps no
+report after that, so its memory stays flat however many files it lints.
+
+What needs every report at once cannot stream, and is refused before linting (exit 2):
+``--statistics`` (refused by the formats that hold it), and ``--report`` files, which a
+run in another format writes beside a ``jsonl`` one (``-f sarif --report jsonl=FILE``).
+``--write-baseline`` writes no report, so the format does not matter to it.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import sys
+import time
+from array import array
+from collections import deque
+from collections.abc import Generator, Iterable, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, NamedTuple, TextIO, cast, overload
+
+from xodrlint.api import STDIN, Input, exit_code, os_reason
+from xodrlint.cli.inputs import read_stdin
+from xodrlint.cli.notes import run_notes, say_notes
+from xodrlint.config import Settings, any_match
+from xodrlint.engine import Linter
+from xodrlint.findings import FileReport
+from xodrlint.formatters import StreamingFormatter
+from xodrlint.messages import one_line
+from xodrlint.output import STDOUT, error_line, release, write_output
+from xodrlint.workers.batch import Engine, Task
+
+if TYPE_CHECKING:
+    from collections import Counter
+
+    from xodrlint.cli.check import CheckRequest
+    from xodrlint.cli.reports import ExtraReport
+
+
+class Source(NamedTuple):
+    """What a run lints and how: the inputs in order, the linter and its settings, the
+    engine for the files, and the name reported for standard input."""
+
+    linter: Linter
+    settings: Settings
+    inputs: Sequence[Input]
+    engine: Engine
+    stdin_filename: str | None = None
+
+
+def stream_inputs(source: Source) -> Generator[tuple[int, FileReport], None, None]:
+    """Each input's report with its index in ``source.inputs``, as soon as it is known:
+    the files as the engine completes them, and each input it does not lint (a path that
+    cannot be read, standard input) just before the first file after it, so an engine
+    that completes files in their order (one process) gives the inputs' order."""
+    inputs, settings = source.inputs, source.settings
+    reading = any(item.is_stdin for item in inputs)
+    stdin, unreadable = read_stdin(settings.max_file_size) if reading else (b"", None)
+    tasks = _Tasks(inputs, settings)
+    others = deque(i for i, item in enumerate(inputs) if not _is_file(item))
+
+    def other(index: int) -> FileReport:
+        item = inputs[index]
+        if item.error is not None:
+            return FileReport(item.display, error=item.error)
+        name = source.stdin_filename or STDIN
+        if unreadable is not None:
+            return FileReport(name, error=unreadable)
+        named = source.stdin_filename is not None
+        external = per_file_ignores(settings, Path(name)) if named else ()
+        return source.linter.lint_bytes(stdin, name, external)
+
+    completed = source.engine(tasks)
+    try:
+        for number, report in completed:
+            position = tasks.position(number)
+            while others and others[0] < position:
+                index = others.popleft()
+                yield index, other(index)
+            yield position, report
+    finally:  # a caller that stops early stops the engine's workers now, not when collected
+        close = getattr(completed, "close", None)
+        if close is not None:
+            close()
+    while others:
+        index = others.popleft()
+        yield index, other(index)
+
+
+def _is_file(item: Input) -> bool:
+    return item.path is not None and item.error is None
+
+
+class _Tasks(Sequence[Task]):
+    """The inputs that are files as the engine's tasks, each made when the engine asks
+    for it: a run holds its inputs once (8 bytes a file more here), not a second list of
+    tasks beside them."""
+
+    def __init__(self, inputs: Sequence[Input], settings: Settings) -> None:
+        self._inputs = inputs
+        self._settings = settings
+        self._positions = array("q", (i for i, item in enumerate(inputs) if _is_file(item)))
+
+    def position(self, number: int) -> int:
+        """The index among the inputs of task ``number``."""
+        return self._positions[number]
+
+    def __len__(self) -> int:
+        return len(self._positions)
+
+    @overload
+    def __getitem__(self, number: int) -> Task: ...
+
+    @overload
+    def __getitem__(self, number: slice) -> list[Task]: ...
+
+    def __getitem__(self, number: int | slice) -> Task | list[Task]:
+        if isinstance(number, slice):
+            return [self[i] for i in range(len(self))[number]]
+        item = self._inputs[self._positions[number]]
+        path = cast("Path", item.path)  # a file's: never None
+        return Task(path, item.display, per_file_ignores(self._settings, path))
+
+
+def per_file_ignores(settings: Settings, path: Path) -> tuple[tuple[str, str], ...]:
+    """The ``per-file-ignores`` selectors that apply to ``path``, each with where it was set."""
+    where = f"per-file-ignores in {settings.config_file or 'the command line'}"
+    return tuple(
+        (selector, f"{where} ({glob})")
+        for glob, selectors in settings.per_file_ignores
+        if any_match([glob], path, settings.base)
+        for selector in selectors
+    )
+
+
+class StreamingRefused(ValueError):
+    """A request a streaming run cannot serve: exit 2 with this one line, before linting."""
+
+
+def check_streamable(name: str, extra: Iterable[ExtraReport]) -> None:
+    """Refuse ``--report`` files beside the streaming format ``name``: every other format
+    needs every report at once, which a streaming run does not keep."""
+    for report in extra:
+        raise StreamingRefused(
+            f"{report.flag}: -f {name} writes findings as files are done and keeps no "
+            f"reports to write another from (for both from one run: -f {report.format} "
+            f"--report {name}=FILE)"
+        )
+
+
+class Streamed(NamedTuple):
+    """A streaming run's settings beside its source: where its output goes, what it
+    withholds (the baseline's remaining fingerprints) and what it says on stderr."""
+
+    output: str | None
+    recorded: Counter[str] | None = None
+    keep_suppressed: bool = False
+    exit_zero: bool = False
+    verbose: bool = False
+
+    @classmethod
+    def of(cls, request: CheckRequest, recorded: Counter[str] | None) -> Streamed:
+        """What ``request`` asks of a streaming run, ``recorded`` its baseline's."""
+        return cls(
+            request.output,
+            recorded,
+            keep_suppressed=request.show_suppressed,
+            exit_zero=request.exit_zero,
+            verbose=request.verbose,
+        )
+
+
+def run_stream(source: Source, formatter: StreamingFormatter, run: Streamed) -> int:
+    """Lint ``source`` and write each file's part of the report as it completes; the
+    exit code is the one the whole run's reports would give."""
+    tally = _Tally(source.settings, run)
+    state = _Writing()
+    started = time.perf_counter()
+
+    def render(stream: TextIO) -> None:
+        state.linting = True
+        with contextlib.closing(stream_inputs(source)) as reports:
+            for _, report in reports:
+                stream = _write(formatter, tally.add(report), stream, run.output, state)
+        state.linting = False
+
+    try:
+        write_output(run.output, render)
+    except OSError as error:
+        if state.linting and state.failed is None:
+            raise  # the engine's, not the output's: an internal error, as in other formats
+        where = "standard output" if run.output in (None, STDOUT) else f"--output {run.output}"
+        reason = "broken pipe" if isinstance(error, BrokenPipeError) else os_reason(error)
+        error_line(f"{where}: cannot write: {reason}")
+        return 2
+    say_notes(tally.notes())  # after the last line, where both reach one log
+    if run.verbose:
+        from xodrlint.cli.verbose import describe_end
+
+        describe_end(tally.linted, time.perf_counter() - started)
+    return tally.code
+
+
+def _write(
+    formatter: StreamingFormatter,
+    report: FileReport,
+    stream: TextIO,
+    output: str | None,
+    state: _Writing,
+) -> TextIO:
+    """Write and flush one file's part; returns the stream to write the next to."""
+    try:
+        formatter.write_file(report, stream)
+        stream.flush()
+    except BrokenPipeError as error:
+        if output not in (None, STDOUT):  # a FIFO named by -o, its reader gone
+            state.failed = error
+            raise
+        # its reader stopped early (| head): the run goes on to its exit code, as with
+        # every other format, writing to nowhere
+        release(sys.stdout)
+        return sys.stdout
+    except OSError as error:
+        state.failed = error
+        raise
+    return stream
+
+
+class _Writing:
+    """Where a streaming run is: linting (and writing) or not, and the error writing
+    met, so an error of the engine's is told from one of the output's."""
+
+    linting = False
+    failed: OSError | None = None
+
+
+class _Tally:
+    """What a streaming run keeps of its reports: the exit code so far, the files linted,
+    and one stand-in per version the built-in schema alone validated (for the notes)."""
+
+    def __init__(self, settings: Settings, run: Streamed) -> None:
+        self._settings = settings
+        self._run = run
+        self._remaining = None if run.recorded is None else run.recorded.copy()
+        self._root = str(Path.cwd())
+        self._builtin: dict[str | None, FileReport] = {}
+        self.linted = 0
+        self.code = 0
+
+    def add(self, report: FileReport) -> FileReport:
+        """Count ``report`` and say on stderr what its file's line there says; returns it
+        without what the baseline withholds."""
+        if self._remaining is not None:
+            from xodrlint.baseline import withhold_recorded
+
+            keep = self._run.keep_suppressed
+            report = withhold_recorded(report, self._remaining, self._root, keep=keep)
+        if report.error is None:
+            self.linted += 1
+        # exit_code over all reports is the largest of each report's own: 3 before 2
+        # before 1 before 0, and --exit-zero turns only findings to 0
+        own = exit_code((report,), self._settings.fail_on, self._run.exit_zero)
+        self.code = max(self.code, own)
+        version = report.declared_version
+        if report.schema_builtin and version not in self._builtin:
+            self._builtin[version] = FileReport(
+                report.path, declared_version=version, schema_builtin=True
+            )
+        if self._run.verbose:
+            from xodrlint.cli.verbose import describe_file
+
+            describe_file(report)
+        if report.error:
+            error_line(one_line(report.error))  # it names the file: escaped
+        for crash in report.internal_errors:
+            error_line(f"internal error: {crash}")
+        return report
+
+    def notes(self) -> tuple[str, ...]:
+        return run_notes(list(self._builtin.values()))

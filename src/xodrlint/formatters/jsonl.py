@@ -1,0 +1,46 @@
+"""JSON Lines, for pipelines: one JSON object per line, written file by file as each file
+is done (``docs/jsonl-output.schema.json``).
+
+A finding's line is the object a finding is in the JSON report (the same keys, the same
+values); a file that could not be read is ``{"path": ..., "error": ...}``, so a reader
+tells the two apart by the ``error`` key. Nothing else is written: no summary, no
+header, no notes (the command prints the run's notes, what was not checked, on stderr
+after the last line), and a file without findings writes no line.
+
+:meth:`JsonlFormatter.write_file` is the streaming form the command line uses (each
+file's lines as it completes, in the order files complete); :meth:`JsonlFormatter.render`
+writes a whole run in input order, for ``--report jsonl=FILE`` beside another format.
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Final, TextIO
+
+from xodrlint.findings import FileReport, RunResult
+
+#: Characters that ``json.dumps(ensure_ascii=False)`` leaves raw but that line readers
+#: other than ``for line in file`` split on (``str.splitlines``, JavaScript's line
+#: terminators): escaped, so one object is one line for every reader.
+_LINE_BREAKS: Final = str.maketrans({"\x85": "\\u0085", "\u2028": "\\u2028", "\u2029": "\\u2029"})
+
+
+class JsonlFormatter:
+    def __init__(self, *, show_source: bool = False, quiet: bool = False) -> None:
+        del show_source, quiet  # always the same lines
+
+    def render(self, result: RunResult, stream: TextIO) -> None:
+        for report in result.reports:
+            self.write_file(report, stream)
+
+    def write_file(self, report: FileReport, stream: TextIO) -> None:
+        """The lines of one file: its error, or one per finding in the report's order."""
+        if report.error is not None:
+            stream.write(_line({"path": report.path, "error": report.error}))
+        for finding in report.findings:
+            stream.write(_line(finding.as_dict()))
+
+
+def _line(value: dict[str, object]) -> str:
+    text = json.dumps(value, ensure_ascii=False, separators=(",", ":"))
+    return text.translate(_LINE_BREAKS) + "\n"
