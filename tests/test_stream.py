@@ -450,7 +450,7 @@ def _streaming_commands() -> list[str]:
 
 def test_the_streaming_section_shows_commands() -> None:
     commands = _streaming_commands()
-    assert len(commands) >= 3 and all(c.startswith("xodrlint check ") for c in commands)
+    assert len(commands) >= 4 and all(c.startswith("xodrlint check ") for c in commands)
 
 
 @pytest.mark.parametrize("command", _streaming_commands())

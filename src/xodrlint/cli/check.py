@@ -16,7 +16,7 @@ from xodrlint.api import (
     exit_code,
 )
 from xodrlint.baseline import BaselineError
-from xodrlint.cli.inputs import InputsError, check_stdin, collect, show_files
+from xodrlint.cli.inputs import InputsError, check_stdin, collect, in_shard, parse_shard, show_files
 from xodrlint.cli.notes import run_notes, say_notes
 from xodrlint.cli.reports import (
     ExtraReport,
@@ -101,6 +101,8 @@ class CheckRequest(NamedTuple):
     """``--color``: one of :data:`~xodrlint.output.COLOR_CHOICES`; ``None`` is "auto"."""
     max_file_size: str | None = None
     rule_timeout: float | None = None
+    shard: str | None = None
+    """``--shard K/N``: lint only the K-th of N parts of the inputs."""
 
 
 class UsageError(ValueError):
@@ -236,7 +238,10 @@ def _plan(registry: Registry, request: CheckRequest, formatter: Formatter | None
     if not request.write_baseline and streaming(formatter) is not None:
         check_streamable(settings.output_format, (report for report, _ in extra))
     check_stdin(request.paths, request.stdin_filename)
+    shard = parse_shard(request.shard) if request.shard is not None else None
     inputs = collect(request.paths, settings)
+    if shard is not None:
+        inputs = in_shard(inputs, shard, request.stdin_filename)
     if request.show_files:
         return show_files(inputs, request.stdin_filename)
     read_only = (item.path for item in inputs if item.path is not None)

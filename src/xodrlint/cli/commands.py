@@ -275,6 +275,16 @@ def check(
             rich_help_panel=_RUN,
         ),
     ] = None,
+    shard: Annotated[
+        str | None,
+        typer.Option(
+            "--shard",
+            metavar="K/N",
+            help="Lint only part K of N (1 to N), parts chosen by a stable hash of each "
+            "path as reported: a CI matrix of N jobs lints every file once.",
+            rich_help_panel=_RUN,
+        ),
+    ] = None,
     baseline: Annotated[
         Path | None,
         typer.Option(
@@ -398,6 +408,7 @@ def check(
             reports=tuple(report or ()),
             max_file_size=max_file_size,
             rule_timeout=rule_timeout,
+            shard=shard,
         )
     )
     raise typer.Exit(code)

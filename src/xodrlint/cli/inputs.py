@@ -1,22 +1,25 @@
 """``xodrlint check``'s inputs: what the paths on its command line name, after
-``exclude`` and the ignore files, and ``--show-files``, which lists them and stops."""
+``exclude`` and the ignore files, the part of them ``--shard K/N`` takes, and
+``--show-files``, which lists them and stops."""
 
 from __future__ import annotations
 
+import os
+import re
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Final
+from typing import Final, NamedTuple
 
 from xodrlint.api import STDIN, Input, collect_inputs, printable_path, too_large
 from xodrlint.config import Settings, any_match
-from xodrlint.messages import one_line
+from xodrlint.messages import one_line, plural
 from xodrlint.output import error_line
 
 
 class InputsError(ValueError):
-    """Inputs a check cannot take (``-`` twice): exit 2 with this one line, before
-    linting."""
+    """Inputs a check cannot take (``-`` twice, a ``--shard`` that names no part): exit 2
+    with this one line, before linting."""
 
 
 def check_stdin(paths: Sequence[str], stdin_filename: str | None) -> None:
@@ -97,3 +100,59 @@ def read_stdin(limit: int) -> tuple[bytes, str | None]:
     if size > limit:
         return b"", too_large(STDIN, limit)
     return b"".join(pieces), None
+
+
+class Shard(NamedTuple):
+    """``--shard K/N``: the K-th (1-based) of N parts of the inputs."""
+
+    part: int
+    parts: int
+
+    def __str__(self) -> str:
+        return f"{self.part}/{self.parts}"
+
+
+_SHARD: Final = re.compile(r"([0-9]+)/([0-9]+)")
+
+
+def parse_shard(given: str) -> Shard:
+    """``K/N`` as a :class:`Shard`, or :class:`InputsError` saying what is wrong."""
+    match = _SHARD.fullmatch(given.strip())
+    if match is None:
+        raise InputsError(
+            f"--shard {one_line(given)}: expected K/N, the K-th of N parts (e.g. 2/4)"
+        )
+    index, count = int(match[1]), int(match[2])
+    if count < 1:
+        raise InputsError(f"--shard {one_line(given)}: N must be at least 1")
+    if not 1 <= index <= count:
+        raise InputsError(f"--shard {one_line(given)}: K must be from 1 to {count}")
+    return Shard(index, count)
+
+
+def shard_of(name: str, count: int) -> int:
+    """The part (1 to ``count``) the input reported as ``name`` belongs to.
+
+    A hash of the name's bytes (SHA-256, never Python's ``hash()``, which is salted per
+    process), with ``/`` between folders on every system: the same command from the same
+    folder puts every file in the same part, in every run and on every machine.
+    """
+    import hashlib  # only sharded runs pay for it
+
+    posix = name.replace(os.sep, "/") if os.sep != "/" else name
+    digest = hashlib.sha256(posix.encode("utf-8", "surrogateescape")).digest()
+    return int.from_bytes(digest[:8], "big") % count + 1
+
+
+def in_shard(inputs: list[Input], shard: Shard, stdin_filename: str | None) -> list[Input]:
+    """The inputs of ``shard``, in their order, each placed by the name reports give it
+    (standard input by ``--stdin-filename``, or ``-``); a warning when it holds none."""
+    kept = [
+        item
+        for item in inputs
+        if shard_of((stdin_filename or STDIN) if item.is_stdin else item.display, shard.parts)
+        == shard.part
+    ]
+    if inputs and not kept:
+        error_line(f"warning: shard {shard} holds none of the {plural(len(inputs), 'input')}")
+    return kept
