@@ -18,7 +18,14 @@ from xodrlint.cli import app
 from xodrlint.engine import Linter, LintOptions
 from xodrlint.findings import FileReport
 from xodrlint.workers import batch
-from xodrlint.workers.batch import SHARE_PER_MESSAGE, Task, lint_in_worker, lint_tasks, schedule
+from xodrlint.workers.batch import (
+    MAX_FILES_PER_MESSAGE,
+    SHARE_PER_MESSAGE,
+    Task,
+    lint_in_worker,
+    lint_tasks,
+    schedule,
+)
 
 from .conftest import REPO
 
@@ -165,6 +172,16 @@ def test_workers_get_the_largest_files_first_in_shrinking_messages() -> None:
     assert lengths == sorted(lengths, reverse=True)
     assert lengths[0] == 200 // (2 * SHARE_PER_MESSAGE)
     assert lengths[-4:] == [1, 1, 1, 1]  # the last files go out one by one
+
+
+def test_no_message_holds_more_than_its_share_of_files() -> None:
+    # a parent holds a message's reports until it is whole, and a streaming run writes
+    # nothing of it before: the first message of a large run must not be huge
+    chunks = schedule(range(100_000), [1000] * 100_000, 2)
+    assert max(len(chunk) for chunk in chunks) == MAX_FILES_PER_MESSAGE
+    assert sorted(i for chunk in chunks for i in chunk) == list(range(100_000))
+    lengths = [len(chunk) for chunk in schedule(range(40), [1] * 40, 1, most=3)]
+    assert lengths[:3] == [3, 3, 3] and lengths[-4:] == [1, 1, 1, 1] and sum(lengths) == 40
 
 
 def test_equal_sizes_keep_input_order_and_one_file_is_one_message() -> None:

@@ -67,6 +67,12 @@ FORK_WORKERS = True
 #: messages while much is left (few round trips), single files at the end (no worker
 #: waits long for another to finish its last message).
 SHARE_PER_MESSAGE: Final = 4
+#: and at most this many files: the parent holds a message's reports until the whole
+#: message is back, and a streaming run writes none of them before, so an uncapped
+#: first message (an eighth of a run's files) held an eighth of the reports and kept
+#: the first lines waiting for it. A message costs the forked pool tens of
+#: microseconds, 64 small maps tens of milliseconds.
+MAX_FILES_PER_MESSAGE: Final = 64
 
 # The linter workers use. Forked workers inherit the parent's (with every schema it has
 # compiled so far); spawned ones build their own in the pool's initializer.
@@ -249,9 +255,15 @@ def _stream_executor(
     return broken
 
 
-def schedule(indexes: Sequence[int], sizes: Sequence[int], jobs: int) -> list[list[int]]:
+def schedule(
+    indexes: Sequence[int],
+    sizes: Sequence[int],
+    jobs: int,
+    *,
+    most: int = MAX_FILES_PER_MESSAGE,
+) -> list[list[int]]:
     """``indexes`` in messages for ``jobs`` workers: the largest files first, in messages
-    that shrink as the work left does (guided self-scheduling).
+    that shrink as the work left does (guided self-scheduling), of at most ``most`` files.
 
     Largest first, because the last file handed out bounds how long the other workers
     wait: a folder of small maps with one city map at the end would otherwise leave one
@@ -262,7 +274,7 @@ def schedule(indexes: Sequence[int], sizes: Sequence[int], jobs: int) -> list[li
     start = 0
     while start < len(order):
         left = len(order) - start
-        size = max(1, left // (jobs * SHARE_PER_MESSAGE))
+        size = min(most, max(1, left // (jobs * SHARE_PER_MESSAGE)))
         chunks.append([indexes[k] for k in order[start : start + size]])
         start += size
     return chunks
