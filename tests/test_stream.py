@@ -22,6 +22,8 @@ from typing import Any, TextIO
 
 import jsonschema  # type: ignore[import-untyped, unused-ignore]
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 from referencing import Registry, Resource
 
 from xodrlint.api import default_registry, exit_code
@@ -29,7 +31,7 @@ from xodrlint.cli.check import CheckRequest, prepare_linter, run_check
 from xodrlint.cli.inputs import collect
 from xodrlint.cli.stream import Source, Streamed, run_stream, stream_inputs
 from xodrlint.engine import Linter, LintOptions
-from xodrlint.findings import FileReport, Finding, RunResult, Severity
+from xodrlint.findings import FileReport, Finding, Location, RunResult, Severity
 from xodrlint.formatters import get_formatter, streaming
 from xodrlint.formatters.jsonl import JsonlFormatter
 from xodrlint.workers import batch
@@ -328,6 +330,38 @@ def test_line_breaks_that_line_readers_split_on_are_escaped() -> None:
     assert json.loads(text)["message"] == message
     assert streaming(JsonlFormatter()) is not None
     assert streaming(get_formatter("json")) is None
+
+
+_TEXT = st.text(st.characters(exclude_categories=["Cs"]), min_size=1)
+
+
+@given(
+    path=_TEXT,
+    line=st.integers(1, 10**9),
+    column=st.none() | st.integers(1, 10**6),
+    message=_TEXT,
+    xpath=_TEXT.map(lambda text: "/" + text),
+    related=st.lists(st.tuples(st.integers(1, 10**6), _TEXT), max_size=3),
+    severity=st.sampled_from(Severity),
+)
+def test_a_line_is_what_json_dumps_writes(
+    path: str,
+    line: int,
+    column: int | None,
+    message: str,
+    xpath: str,
+    related: list[tuple[int, str]],
+    severity: Severity,
+) -> None:
+    # written by hand for speed: it must stay the finding of the JSON report, exactly
+    locations = tuple(Location(number, where) for number, where in related)
+    finding = Finding(path, line, column, "XS006", "u:id", severity, message, xpath, locations)
+    stream = io.StringIO()
+    JsonlFormatter().write_file(FileReport(path, findings=(finding,)), stream)
+    dumped = json.dumps(finding.as_dict(), ensure_ascii=False, separators=(",", ":"))
+    escaped = dumped.replace("\x85", "\\u0085").replace("\u2028", "\\u2028")
+    assert stream.getvalue() == escaped.replace("\u2029", "\\u2029") + "\n"
+    assert json.loads(stream.getvalue()) == finding.as_dict()
 
 
 def test_render_writes_a_whole_run_in_input_order() -> None:
