@@ -10,8 +10,10 @@ import json
 import os
 import re
 import shutil
+import stat
 import subprocess
 import sys
+import threading
 import time
 import tracemalloc
 from collections import Counter
@@ -286,6 +288,18 @@ def test_output_to_a_file_and_a_full_disk(tmp_path: Path) -> None:
         assert full.stderr.splitlines()[0] == (
             "xodrlint: --output /dev/full: cannot write: no space left on device"
         )
+
+
+def test_a_fifo_named_by_output_gets_the_lines_as_written(tmp_path: Path) -> None:
+    fifo = tmp_path / "lines"
+    os.mkfifo(fifo)
+    received: list[bytes] = []
+    reader = threading.Thread(target=lambda: received.append(fifo.read_bytes()))
+    reader.start()
+    cli("check", "-f", "jsonl", "-o", fifo, BROKEN, TWO, code=1)
+    reader.join(timeout=30)
+    assert stat.S_ISFIFO(fifo.lstat().st_mode)  # written into, not replaced
+    assert len(lines_of(received[0].decode("utf-8"))) == 8
 
 
 def test_an_error_of_the_engine_is_no_error_of_the_output(
