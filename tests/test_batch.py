@@ -228,3 +228,29 @@ def test_batch_workers_keep_their_work_in_one_thread(monkeypatch: pytest.MonkeyP
 
     batch._lint_chunk(worker, [object(), object()])  # type: ignore[list-item]
     assert seen == [False, False]
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_a_file_that_breaks_the_linter_is_its_internal_error_and_the_rest_go_on(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, jobs: int
+) -> None:
+    real = Linter.lint_path
+
+    def failing(linter: Linter, path: Path, *args: object) -> FileReport:
+        if path.name == "crash.xodr":
+            raise RuntimeError("simulated failure")
+        return real(linter, path, *args)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(Linter, "lint_path", failing)
+    paths = []
+    for index in range(6):
+        name = "crash.xodr" if index == 2 else f"map{index}.xodr"
+        shutil.copy(REPO / "examples" / "broken.xodr", tmp_path / name)
+        paths.append(tmp_path / name)
+    tasks = [Task(path, path.name) for path in paths]
+    reports = lint_tasks(Linter(default_registry(), LintOptions()), tasks, jobs)
+    assert reports[2] == FileReport(
+        "crash.xodr",
+        internal_errors=("linting crash.xodr failed: RuntimeError('simulated failure')",),
+    )
+    assert all(len(r.findings) == 6 for i, r in enumerate(reports) if i != 2)

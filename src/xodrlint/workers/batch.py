@@ -24,6 +24,7 @@ from xodrlint.engine import ExternalIgnores, Linter, LintOptions
 from xodrlint.findings import FileReport
 from xodrlint.output import interactive
 from xodrlint.registry import load_registry
+from xodrlint.validation.sets import SchemaLoadError
 from xodrlint.workers import background
 
 if TYPE_CHECKING:
@@ -85,7 +86,24 @@ def _start_worker(options: LintOptions) -> None:
 
 
 def lint_in_worker(task: Task) -> FileReport:
-    return _WORKER["linter"].lint_path(task.path, task.display, task.external)
+    return lint_task(_WORKER["linter"], task)
+
+
+def lint_task(linter: Linter, task: Task) -> FileReport:
+    """``task``'s report, wherever it runs (this process, a forked worker, a Dask worker).
+
+    A file that makes the linter itself fail (not one rule: the engine keeps those to
+    the rule) is that file's internal error, and the other files go on; a schema set
+    that cannot be compiled is the run's error and ends it.
+    """
+    try:
+        return linter.lint_path(task.path, task.display, task.external)
+    except SchemaLoadError:
+        raise
+    except Exception as error:
+        return FileReport(
+            task.display, internal_errors=(f"linting {task.display} failed: {error!r}",)
+        )
 
 
 def _lint_chunk(worker: LintTask, chunk: Sequence[Task]) -> list[FileReport]:
@@ -142,7 +160,7 @@ def stream_tasks(
     if not uses_workers(jobs, len(tasks)):
         with _Progress(len(tasks), enabled=progress) as bar:
             for index, task in enumerate(tasks):
-                yield index, linter.lint_path(task.path, task.display, task.external)
+                yield index, lint_task(linter, task)
                 bar.advance()
         return
     # Compile the first file's schema here, once: forked workers inherit it.
