@@ -74,3 +74,45 @@ def network_attempts(
     monkeypatch.setattr(socket, "create_connection", create_connection)
     yield attempts
     assert not attempts, f"the test attempted network connections: {attempts}"
+
+
+@pytest.fixture(scope="module")
+def dask_cluster(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Any]:
+    """A LocalCluster of two worker processes for a module (a start costs seconds), on
+    the loopback interface. Its workers see no schemas of the developer's, as the tests'
+    own process does not; a task whose workers die twice is given up (so that a test of
+    a file that kills its worker stays short). Skipped where Dask is not installed."""
+    pytest.importorskip(
+        "distributed", reason="Dask is not installed: pip install 'dask[distributed]'"
+    )
+    import logging
+
+    import dask
+    from distributed import LocalCluster
+
+    with pytest.MonkeyPatch.context() as patch:
+        patch.delenv("XODRLINT_SCHEMA_PATH", raising=False)
+        patch.setenv("XODRLINT_DATA_DIR", str(tmp_path_factory.mktemp("worker-data")))
+        patch.setenv("XODRLINT_CACHE_DIR", str(tmp_path_factory.mktemp("worker-cache")))
+        with (
+            dask.config.set({"distributed.scheduler.allowed-failures": 1}),
+            LocalCluster(  # type: ignore[no-untyped-call]
+                n_workers=2,
+                threads_per_worker=1,
+                processes=True,
+                host="127.0.0.1",
+                dashboard_address=None,
+                scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
+                silence_logs=logging.CRITICAL,
+            ) as started,
+        ):
+            yield started
+
+
+@pytest.fixture(scope="module")
+def dask_client(dask_cluster: Any) -> Iterator[Any]:
+    """A client of :func:`dask_cluster` (the default one while it lives)."""
+    from distributed import Client
+
+    with Client(dask_cluster) as connected:  # type: ignore[no-untyped-call]
+        yield connected

@@ -14,7 +14,7 @@ from .test_cli import CLEAN
 #: worker pools (-j on many files), forking large documents, plugin scans (cache misses),
 #: the other formats and commands, the table of old import paths, drawing the plan view
 #: (the track-geometry rules evaluate it at switch points and joints only), reading
-#: ignore files (folder walks only).
+#: ignore files (folder walks only), Dask (--scheduler only).
 NOT_FOR_A_SMALL_JSON_RUN = (
     "xmlschema",
     "elementpath",
@@ -35,6 +35,11 @@ NOT_FOR_A_SMALL_JSON_RUN = (
     "xodrlint.workers.forkpool",
     "xodrlint._moved",
     "pathspec",
+    # a Dask cluster as the engine (--scheduler, xodrlint.distributed)
+    "dask",
+    "distributed",
+    "xodrlint.workers.dask",
+    "xodrlint.distributed",
 )
 
 _RUN = """

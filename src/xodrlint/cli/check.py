@@ -29,6 +29,7 @@ from xodrlint.cli.reports import (
     write_baseline,
     write_reports,
 )
+from xodrlint.cli.scheduler import SchedulerUsageError, check_scheduler, scheduler_engine
 from xodrlint.cli.stream import (
     Source,
     Streamed,
@@ -60,7 +61,7 @@ from xodrlint.messages import one_line
 from xodrlint.output import STDOUT, error_line
 from xodrlint.registry import Registry
 from xodrlint.validation.sets import Origin, SchemaLoadError
-from xodrlint.workers.batch import default_jobs, in_order, stream_tasks
+from xodrlint.workers.batch import Engine, default_jobs, in_order, stream_tasks
 
 if TYPE_CHECKING:
     from collections import Counter
@@ -88,6 +89,8 @@ class CheckRequest(NamedTuple):
     respect_gitignore: bool | None = None
     show_files: bool = False
     jobs: int | None = None
+    scheduler: str | None = None  # a Dask scheduler's address, or "local"
+    scheduler_timeout: float | None = None
     baseline: Path | None = None
     write_baseline: Path | None = None
     warn_unused_suppressions: bool | None = None
@@ -192,6 +195,7 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
         OutputRefused,
         InputsError,
         StreamingRefused,
+        SchedulerUsageError,
     ) as error:
         error_line(str(error))
         return 2
@@ -202,7 +206,8 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
         from xodrlint.cli.verbose import describe_run
 
         readable = sum(1 for item in inputs if item.error is None)
-        describe_run(settings, (rule.code for rule in linter.rules), readable, _jobs(request))
+        codes = (rule.code for rule in linter.rules)
+        describe_run(settings, codes, readable, _jobs(request), request.scheduler)
     source = _source(linter, settings, inputs, request)
     streamed = None if request.write_baseline else streaming(formatter)
     try:
@@ -210,7 +215,7 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
             return run_stream(source, streamed, Streamed.of(request, recorded))
         started = time.perf_counter()
         reports = in_order(stream_inputs(source), len(inputs))
-    except SchemaLoadError as error:
+    except (SchemaLoadError, SchedulerUsageError) as error:
         error_line(str(error))
         return 2
     if request.verbose:
@@ -238,6 +243,7 @@ def _plan(registry: Registry, request: CheckRequest, formatter: Formatter | None
     if not request.write_baseline and streaming(formatter) is not None:
         check_streamable(settings.output_format, (report for report, _ in extra))
     check_stdin(request.paths, request.stdin_filename)
+    check_scheduler(request.scheduler, request.scheduler_timeout, request.jobs)
     shard = parse_shard(request.shard) if request.shard is not None else None
     inputs = collect(request.paths, settings)
     if shard is not None:
@@ -384,13 +390,10 @@ def _source(
     linter: Linter, settings: Settings, inputs: list[Input], request: CheckRequest
 ) -> Source:
     jobs = _jobs(request)
-    return Source(
-        linter,
-        settings,
-        inputs,
-        lambda tasks: stream_tasks(linter, tasks, jobs, progress=True),
-        request.stdin_filename,
+    engine: Engine = scheduler_engine(linter.options, request) or (
+        lambda tasks: stream_tasks(linter, tasks, jobs, progress=True)
     )
+    return Source(linter, settings, inputs, engine, request.stdin_filename)
 
 
 def _jobs(request: CheckRequest) -> int:

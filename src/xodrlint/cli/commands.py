@@ -275,6 +275,27 @@ def check(
             rich_help_panel=_RUN,
         ),
     ] = None,
+    scheduler: Annotated[
+        str | None,
+        typer.Option(
+            "--scheduler",
+            metavar="ADDRESS",
+            help="Lint on a Dask cluster: a running scheduler (tcp://host:8786), or 'local' "
+            "for one of --jobs worker processes on this machine. Needs the dask extra: "
+            "pip install 'xodrlint[dask]'.",
+            rich_help_panel=_RUN,
+        ),
+    ] = None,
+    scheduler_timeout: Annotated[
+        float | None,
+        typer.Option(
+            "--scheduler-timeout",
+            metavar="SECONDS",
+            help="Give up on a --scheduler not reached, or without a worker, within this "
+            "many seconds (default 30).",
+            rich_help_panel=_RUN,
+        ),
+    ] = None,
     shard: Annotated[
         str | None,
         typer.Option(
@@ -399,6 +420,8 @@ def check(
             respect_gitignore=respect_gitignore,
             show_files=show_files,
             jobs=jobs,
+            scheduler=scheduler,
+            scheduler_timeout=scheduler_timeout,
             baseline=baseline,
             write_baseline=write_baseline,
             warn_unused_suppressions=warn_unused_suppressions,

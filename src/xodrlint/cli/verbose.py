@@ -29,13 +29,19 @@ def seconds(value: float) -> str:
     return f"{value * 1000:.1f} ms" if value < 1 else f"{value:.2f} s"
 
 
-def describe_run(settings: Settings, rules: Iterable[str], files: int, jobs: int) -> None:
+def describe_run(
+    settings: Settings, rules: Iterable[str], files: int, jobs: int, scheduler: str | None = None
+) -> None:
     config = settings.config_file
     error_line(f"config: {config}" if config is not None else "config: none (defaults)")
     codes = sorted(rules)
     error_line(f"rules: {len(codes)} selected ({', '.join(codes)})")
-    workers = f"{jobs} worker processes" if uses_workers(jobs, files) else "this process"
-    error_line(f"files: {files}, linted in {workers}")
+    workers = f"in {jobs} worker processes" if uses_workers(jobs, files) else "in this process"
+    if scheduler == "local":
+        workers = f"on a local Dask cluster of {jobs} worker processes"
+    elif scheduler is not None:
+        workers = f"on the workers of the Dask scheduler {scheduler}"
+    error_line(f"files: {files}, linted {workers}")
 
 
 def describe_file(report: FileReport) -> None:

@@ -6,7 +6,9 @@
   piece by the parent; knows nothing of linting at all;
 - :mod:`~xodrlint.workers.batch`: many files linted over worker processes, reports in
   input order (the forked pool, or an executor where fork is unavailable).
+- :mod:`~xodrlint.workers.dask`: many files linted on a Dask cluster, each report as it
+  completes (imported only when a run asks for Dask).
 
 ``background`` and ``forkpool`` sit below the pipeline (validation uses ``background``);
-``batch`` sits above the engine, whose linter each worker keeps.
+``batch`` sits above the engine, whose linter each worker keeps, and ``dask`` above it.
 """

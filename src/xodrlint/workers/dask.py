@@ -1,0 +1,218 @@
+"""Many files on a Dask cluster: the engine of ``check --scheduler`` and of
+:mod:`xodrlint.distributed`.
+
+Each worker process builds the run's :class:`~xodrlint.engine.Linter` once, when a
+:class:`LinterPlugin` registered for the run sets it up (so each schema is compiled once
+per worker, as in the forked pool), and lints batches of files: the largest first, in
+batches that shrink as the work left does (:func:`~xodrlint.workers.batch.schedule`), so
+that the scheduler handles tens of tasks for thousands of files. A task sends back one
+small :class:`~xodrlint.findings.FileReport` per file, never a map.
+
+Faults: Dask runs again the tasks of a worker that died (up to the scheduler's
+``allowed-failures``) and a task that raised (``retries``); a batch that kept killing
+its workers is split, each file retried alone, and a file that kills its worker even so
+is that file's error. The run's plugin and futures are released when it ends, however it
+ends (Ctrl-C included).
+
+Imported only when a run asks for Dask: it imports ``distributed``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import threading
+import uuid
+from collections.abc import Generator, Iterator, Sequence
+from contextlib import contextmanager
+from typing import Final
+
+from distributed import Client, Future, LocalCluster, WorkerPlugin, as_completed, get_worker
+from distributed.client import FutureCancelledError
+from distributed.scheduler import KilledWorker
+
+from xodrlint import __version__
+from xodrlint.engine import Linter, LintOptions
+from xodrlint.findings import FileReport
+from xodrlint.registry import load_registry
+from xodrlint.workers import background
+from xodrlint.workers.batch import Task, default_jobs, lint_task, schedule
+
+#: ``--scheduler`` for a cluster of this machine's own, started for the run.
+LOCAL: Final = "local"
+#: Times Dask runs a task again after it raised (a worker's transient failure: memory,
+#: a network file system); a worker's death is the scheduler's ``allowed-failures``.
+DEFAULT_RETRIES: Final = 2
+#: Seconds to reach a scheduler, and for a worker to join it, unless told otherwise.
+DEFAULT_TIMEOUT: Final = 30.0
+
+
+class SchedulerError(Exception):
+    """The cluster cannot be used: the scheduler is out of reach, or has no worker."""
+
+
+class LinterPlugin(WorkerPlugin):
+    """One warm linter per worker process for one run, built from the run's options when
+    the worker joins (or when the run starts, on a worker already there)."""
+
+    def __init__(self, options: LintOptions) -> None:
+        self.options = options
+        self.linter: Linter | None = None
+        self.lock: threading.Lock | None = None
+
+    def setup(self, worker: object) -> None:
+        # beside other workers that keep every core busy: a thread of its own for each
+        # file's validation would only add switches (as in batch's workers)
+        os.environ[background.ENV] = "0"
+        self.linter = Linter(load_registry(), self.options)
+        # a worker with several threads runs several tasks at once: they take turns,
+        # as a linter is made for one caller at a time
+        self.lock = threading.Lock()
+
+
+def lint_batch(plugin: str, tasks: Sequence[Task]) -> list[FileReport]:
+    """A task on a worker: ``tasks``' reports, in their order, with the linter of the
+    run's plugin (named ``plugin``)."""
+    worker = get_worker()
+    found = worker.plugins.get(plugin)
+    if not isinstance(found, LinterPlugin) or found.linter is None or found.lock is None:
+        raise RuntimeError(f"worker {worker.address} has no linter for this run ({plugin})")
+    with found.lock:
+        return [lint_task(found.linter, task) for task in tasks]
+
+
+@contextmanager
+def connect(
+    address: str, *, timeout: float = DEFAULT_TIMEOUT, workers: int | None = None
+) -> Iterator[Client]:
+    """A client of the scheduler at ``address``, or of a cluster of ``workers`` processes
+    (default: one per core) started on this machine for :data:`LOCAL`; closed, and the
+    local cluster stopped, on the way out."""
+    if address == LOCAL:
+        with _local_cluster(workers or default_jobs()) as cluster, Client(cluster) as client:
+            yield client
+        return
+    try:
+        client = Client(address, timeout=timeout, set_as_default=False)
+    except ValueError as error:  # dask names what is wrong with the address
+        raise SchedulerError(f"not a scheduler address: {error}") from None
+    except OSError:
+        raise SchedulerError(f"cannot reach the scheduler within {timeout:g} s") from None
+    with client:
+        try:
+            client.wait_for_workers(1, timeout=timeout)
+        except TimeoutError:
+            raise SchedulerError(f"no worker joined the scheduler within {timeout:g} s") from None
+        yield client
+
+
+def _local_cluster(workers: int) -> LocalCluster:
+    # Processes with one thread each: the linter holds the GIL for most of a file. On
+    # the loopback interface and without a dashboard: nothing of it is seen from
+    # outside; the scheduler's HTTP routes (health, metrics), which it serves even then,
+    # take any free port, so that a run beside another cluster does not warn about 8787.
+    try:
+        return LocalCluster(
+            n_workers=workers,
+            threads_per_worker=1,
+            processes=True,
+            host="127.0.0.1",
+            dashboard_address=None,
+            scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
+            silence_logs=logging.ERROR,
+        )
+    except OSError as error:
+        raise SchedulerError(f"cannot start a local cluster: {error}") from None
+
+
+def lint_on_cluster(
+    client: Client,
+    options: LintOptions,
+    tasks: Sequence[Task],
+    *,
+    retries: int = DEFAULT_RETRIES,
+) -> Generator[tuple[int, FileReport], None, None]:
+    """Lint ``tasks`` on ``client``'s cluster: each report with its index in ``tasks``,
+    as it completes (an ``Iterator[tuple[int, FileReport]]``, as every engine's). The
+    run's worker plugin and futures are released when it ends or is closed."""
+    if not tasks:
+        return
+    # a worker's working folder is not this process's: each file by its absolute path
+    # (its reports name it as it was given)
+    tasks = [task._replace(path=task.path.absolute()) for task in tasks]
+    plugin = f"xodrlint-{uuid.uuid4().hex}"
+    try:
+        client.register_plugin(LinterPlugin(options), name=plugin)
+    except Exception as error:  # raised on a worker: its xodrlint is missing or another
+        raise SchedulerError(
+            f"the workers cannot build a linter ({error}): install this xodrlint, "
+            f"{__version__}, with the same rule plugins, where they run"
+        ) from None
+    try:
+        yield from _lint_all(client, plugin, tasks, retries)
+    finally:
+        # a scheduler already gone takes the plugin with it: nothing is left to release
+        with contextlib.suppress(OSError):
+            client.unregister_worker_plugin(plugin)
+
+
+def _lint_all(
+    client: Client, plugin: str, tasks: Sequence[Task], retries: int
+) -> Iterator[tuple[int, FileReport]]:
+    threads = max(1, sum(client.nthreads().values()))
+    chunks = schedule(range(len(tasks)), [_size(task) for task in tasks], threads)
+    lost: list[int] = []
+    for chunk, reports in _run(client, plugin, tasks, chunks, retries):
+        if reports is None:
+            lost.extend(chunk)
+        else:
+            yield from zip(chunk, reports, strict=True)
+    # each file of a batch that kept killing its workers gets workers of its own
+    for chunk, reports in _run(client, plugin, tasks, [[index] for index in lost], retries):
+        (index,) = chunk
+        shown = tasks[index].display
+        crashed = FileReport(shown, error=f"{shown}: the worker linting it crashed")
+        yield index, crashed if reports is None else reports[0]
+
+
+def _run(
+    client: Client, plugin: str, tasks: Sequence[Task], chunks: list[list[int]], retries: int
+) -> Iterator[tuple[list[int], list[FileReport] | None]]:
+    """Each chunk with its reports as it completes, or ``None`` when workers kept dying
+    while running it; what is still pending when this ends early is cancelled."""
+    futures: dict[Future[list[FileReport]], list[int]] = {}
+    run = uuid.uuid4().hex[:8]
+    for number, chunk in enumerate(chunks):
+        future = client.submit(
+            lint_batch,
+            plugin,
+            [tasks[index] for index in chunk],
+            key=f"xodrlint-lint-{run}-{number}",
+            retries=retries,
+            priority=len(chunks) - number,  # the largest files first, as scheduled
+            pure=False,
+        )
+        futures[future] = chunk
+    try:
+        for future in as_completed(list(futures), loop=client.loop):
+            chunk = futures.pop(future)
+            try:
+                reports: list[FileReport] | None = future.result()
+            except KilledWorker:
+                reports = None
+            except FutureCancelledError as error:  # the scheduler was lost, or restarted
+                raise SchedulerError(f"the run's work was cancelled: {error}") from None
+            future.release()
+            yield chunk, reports
+    finally:
+        if futures:
+            with contextlib.suppress(OSError):  # no scheduler left: nothing to cancel
+                client.cancel(list(futures))
+
+
+def _size(task: Task) -> int:
+    try:
+        return task.path.stat().st_size
+    except OSError:  # gone, or not a local path: its worker reports what it finds
+        return 0

@@ -1,0 +1,345 @@
+"""Dask as the engine (issue 20), on a real LocalCluster of two worker processes: the
+report of ``--jobs 1``, byte for byte, also when a worker is killed mid-run; a file that
+breaks the linter or its worker stays that file's problem; one linter per worker and a
+few batches; Ctrl-C cancels the run's work; an unreachable scheduler is one line."""
+
+from __future__ import annotations
+
+import json
+import multiprocessing
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+from typer.testing import CliRunner, Result
+
+pytest.importorskip("distributed", reason="Dask is not installed: pip install 'dask[distributed]'")
+
+from distributed import Client, LocalCluster
+
+import xodrlint
+from xodrlint.cli import app
+from xodrlint.engine import LintOptions
+from xodrlint.workers import dask as engine
+from xodrlint.workers.batch import Task, schedule
+from xodrlint.workers.dask import lint_on_cluster
+
+from .conftest import REPO
+from .dask_helpers import (
+    LINT_KEY,
+    BrokenLinterPlugin,
+    CountLinters,
+    FailOn,
+    KillOnce,
+    Slow,
+    linters_built,
+)
+from .test_benchmarks import GENERATE
+
+pytestmark = pytest.mark.loopback
+
+#: Cases of the rule catalogue with findings, beside the generated (clean) maps.
+CASES = sorted(REPO.glob("rules/[A-Z]*/invalid_*.xodr"))[:40]
+#: Reports of these formats are compared too (the JSON one is the standard output).
+FORMATS = ("sarif", "junit", "gitlab", "github", "text", "concise")
+
+
+@pytest.fixture(scope="module")
+def maps(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """200 maps: 160 generated ones of 4 to 20 KB in three versions, 40 rule cases."""
+    folder = tmp_path_factory.mktemp("maps")
+    for number in range(160):
+        size = 4096 + (number * 997) % 16384
+        GENERATE.write_network(folder / f"net-{number:03}.xodr", size, (4, 7, 8)[number % 3])
+    for number, case in enumerate(CASES):
+        shutil.copy(case, folder / f"case-{number:03}-{case.parent.name}-{case.name}")
+    return folder
+
+
+@pytest.fixture(scope="module")
+def cluster(dask_cluster: LocalCluster) -> LocalCluster:
+    return dask_cluster
+
+
+@pytest.fixture(scope="module")
+def client(dask_client: Client) -> Client:
+    return dask_client
+
+
+@pytest.fixture
+def plugin(client: Client) -> Iterator[Callable[[Any, str], None]]:
+    """Registers worker plugins for one test; they are gone, and both workers back,
+    after it."""
+    names: list[str] = []
+
+    def register(planted: Any, name: str) -> None:
+        client.register_plugin(planted, name=name)
+        names.append(name)
+
+    yield register
+    for name in names:
+        client.unregister_worker_plugin(name)
+    client.wait_for_workers(2, timeout=60)
+
+
+def run(*args: str | Path) -> Result:
+    return CliRunner().invoke(app, [str(a) for a in args])
+
+
+def reports(folder: Path, out: Path, *engine: str | Path) -> tuple[Result, dict[str, bytes]]:
+    """A JSON run on ``folder`` with ``engine``'s options, and every other format's
+    report of it, by format."""
+    out.mkdir()
+    extra = [f"--report={name}={out / name}" for name in FORMATS]
+    result = run("check", "-f", "json", *extra, *engine, folder)
+    assert result.exit_code in (0, 1), result.stderr
+    return result, {name: (out / name).read_bytes() for name in FORMATS}
+
+
+def test_a_cluster_gives_the_report_of_one_process(
+    maps: Path, cluster: LocalCluster, tmp_path: Path
+) -> None:
+    one, one_reports = reports(maps, tmp_path / "one", "-j", "1")
+    dask_run, dask_reports = reports(
+        maps, tmp_path / "dask", "--scheduler", cluster.scheduler_address
+    )
+    assert one.exit_code == dask_run.exit_code == 1, dask_run.stderr
+    assert len(json.loads(one.stdout)["files"]) == 200 and '"code": "' in one.stdout
+    assert dask_run.stdout == one.stdout
+    assert dask_run.stderr == one.stderr
+    assert dask_reports == one_reports
+
+
+def test_a_worker_killed_mid_run_loses_nothing(
+    maps: Path, cluster: LocalCluster, plugin: Callable[[Any, str], None], tmp_path: Path
+) -> None:
+    marker = tmp_path / "killed"
+    plugin(KillOnce(str(marker)), "kill-once")
+    one = run("check", "-f", "json", "-j", "1", maps)
+    killed = run("check", "-f", "json", "--scheduler", cluster.scheduler_address, maps)
+    assert marker.exists(), "no worker was killed"
+    assert killed.exit_code == one.exit_code == 1, killed.stderr
+    assert killed.stdout == one.stdout
+
+
+def _with_culprit(folder: Path) -> Path:
+    folder.mkdir()
+    for number in range(6):
+        name = "crash.xodr" if number == 2 else f"map{number}.xodr"
+        shutil.copy(REPO / "examples" / "broken.xodr", folder / name)
+    return folder
+
+
+def test_a_file_that_breaks_the_linter_is_its_internal_error_as_with_jobs(
+    cluster: LocalCluster,
+    plugin: Callable[[Any, str], None],
+    tmp_path: Path,
+) -> None:
+    maps = _with_culprit(tmp_path / "maps")
+    plugin(FailOn("crash"), "fail-on-crash")
+    on_cluster = run("check", "-f", "json", "--scheduler", cluster.scheduler_address, maps)
+    in_process = FailOn("crash")
+    in_process.setup(None)  # the same failure in this process, for --jobs 1
+    try:
+        one = run("check", "-f", "json", "-j", "1", maps)
+    finally:
+        in_process.teardown(None)
+    assert on_cluster.exit_code == one.exit_code == 3
+    assert on_cluster.stdout == one.stdout
+    line = f"xodrlint: internal error: linting {maps.as_posix()}/crash.xodr failed: "
+    assert on_cluster.stderr == one.stderr
+    assert f"{line}RuntimeError('simulated failure')\n" in on_cluster.stderr
+    counted = {Path(f["path"]).name: f["findings"] for f in json.loads(on_cluster.stdout)["files"]}
+    assert counted == {"crash.xodr": 0, **{f"map{n}.xodr": 6 for n in (0, 1, 3, 4, 5)}}
+
+
+def test_a_file_that_kills_its_workers_is_an_error_and_the_rest_go_on(
+    cluster: LocalCluster, plugin: Callable[[Any, str], None], tmp_path: Path
+) -> None:
+    maps = _with_culprit(tmp_path / "maps")
+    plugin(FailOn("crash", kill=True), "kill-on-crash")
+    result = run("check", "-f", "concise", "--scheduler", cluster.scheduler_address, maps)
+    assert result.exit_code == 2
+    crashed = f"xodrlint: {maps.as_posix()}/crash.xodr: the worker linting it crashed"
+    assert result.stderr.splitlines()[0] == crashed
+    linted = {line.split(":")[0] for line in result.stdout.splitlines() if ".xodr:" in line}
+    assert linted == {f"{maps.as_posix()}/map{n}.xodr" for n in (0, 1, 3, 4, 5)}
+
+
+def test_each_worker_builds_one_linter_and_files_go_in_a_few_batches_largest_first(
+    maps: Path, client: Client, plugin: Callable[[Any, str], None], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    plugin(CountLinters(), "count-linters")
+    files = sorted(maps.iterdir())
+    tasks = [Task(path, path.name) for path in files]
+    submitted: list[list[Task]] = []
+    real_submit = client.submit
+
+    def recording_submit(function: Any, plugin_name: str, batch: list[Task], **kwargs: Any) -> Any:
+        submitted.append(batch)
+        return real_submit(function, plugin_name, batch, **kwargs)
+
+    monkeypatch.setattr(client, "submit", recording_submit)
+    done = dict(lint_on_cluster(client, LintOptions(), tasks))
+    assert sorted(done) == list(range(len(tasks)))
+    assert [done[index].path for index in range(len(tasks))] == [path.name for path in files]
+    assert client.run(linters_built) == dict.fromkeys(client.nthreads(), 1)
+    sizes = [path.stat().st_size for path in files]
+    expected = schedule(range(len(tasks)), sizes, 2)
+    assert [[tasks.index(task) for task in batch] for batch in submitted] == expected
+    assert len(submitted) <= len(tasks) // 4
+    assert max(sizes) == max(task.path.stat().st_size for task in submitted[0])
+    plugins = client.run_on_scheduler(lambda dask_scheduler: list(dask_scheduler.worker_plugins))
+    assert not [name for name in plugins if name.startswith("xodrlint-")]  # released
+
+
+def _free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return int(probe.getsockname()[1])
+
+
+def test_an_unreachable_scheduler_is_one_line_and_exit_2_within_the_timeout(maps: Path) -> None:
+    address = f"tcp://127.0.0.1:{_free_port()}"  # bound and let go: nothing listens there
+    started = time.monotonic()
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "xodrlint",
+            "check",
+            "--scheduler",
+            address,
+            "--scheduler-timeout",
+            "3",
+            maps,
+        ],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
+    elapsed = time.monotonic() - started
+    assert done.returncode == 2
+    assert (
+        done.stderr == f"xodrlint: --scheduler {address}: cannot reach the scheduler within 3 s\n"
+    )
+    assert done.stdout == ""
+    assert 3 <= elapsed < 10
+
+
+def test_an_address_that_is_none_is_one_line_and_exit_2(maps: Path) -> None:
+    result = run("check", "--scheduler", "scheduler-without-port", maps)
+    assert result.exit_code == 2
+    assert result.stderr == (
+        "xodrlint: --scheduler scheduler-without-port: not a scheduler address: "
+        "missing port number in address 'scheduler-without-port'\n"
+    )
+
+
+def _run_tasks(client: Client) -> int:
+    keys = client.run_on_scheduler(lambda dask_scheduler: [str(k) for k in dask_scheduler.tasks])
+    return sum(key.startswith(LINT_KEY) for key in keys)
+
+
+def test_ctrl_c_cancels_the_runs_work_on_the_cluster(
+    maps: Path, cluster: LocalCluster, client: Client, plugin: Callable[[Any, str], None]
+) -> None:
+    plugin(Slow(0.05), "slow")  # 200 files: 5 s on two workers
+    command = [sys.executable, "-m", "xodrlint", "check", "-f", "json", "-o", os.devnull]
+    interrupted = subprocess.Popen(
+        [*command, "--scheduler", cluster.scheduler_address, maps],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    deadline = time.monotonic() + 60
+    while _run_tasks(client) == 0:
+        assert interrupted.poll() is None and time.monotonic() < deadline, "the run never started"
+        time.sleep(0.05)
+    interrupted.send_signal(signal.SIGINT)
+    _, err = interrupted.communicate(timeout=60)
+    assert interrupted.returncode == 130, err
+    assert "Traceback" not in err and "Warning" not in err, err
+    deadline = time.monotonic() + 10
+    while _run_tasks(client):  # cancelled: the scheduler forgets them
+        assert time.monotonic() < deadline, "the run's tasks stayed on the cluster"
+        time.sleep(0.05)
+    plugins = client.run_on_scheduler(lambda dask_scheduler: list(dask_scheduler.worker_plugins))
+    assert not [name for name in plugins if name.startswith("xodrlint-")]
+
+
+def test_a_local_cluster_gives_the_same_report_and_stops_with_the_run(maps: Path) -> None:
+    before = set(multiprocessing.active_children())
+    some = sorted(maps.iterdir())[::10]
+    one = run("check", "-f", "json", "-j", "1", *some)
+    local = run("check", "-f", "json", "--scheduler", "local", "--jobs", "2", *some)
+    assert local.exit_code == one.exit_code == 1, local.stderr
+    assert local.stdout == one.stdout
+    assert local.stderr == one.stderr
+    assert set(multiprocessing.active_children()) <= before  # its workers are gone
+
+
+def _members(group: int) -> list[int]:
+    members = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[2]) == group and fields[0] != "Z":
+                members.append(int(entry.name))
+    return members
+
+
+@pytest.mark.skipif(not Path("/proc").is_dir(), reason="needs /proc to see the workers")
+def test_ctrl_c_stops_a_local_cluster(tmp_path: Path) -> None:
+    maps = tmp_path / "maps"
+    maps.mkdir()
+    for number in range(3000):
+        shutil.copyfile(REPO / "examples" / "broken.xodr", maps / f"m{number:04}.xodr")
+    report = tmp_path / "report.json"
+    command = [sys.executable, "-m", "xodrlint", "check", "-f", "json", "-o", str(report)]
+    interrupted = subprocess.Popen(
+        [*command, "--scheduler", "local", "--jobs", "2", maps],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,  # its own process group: its workers are found by it
+    )
+    deadline = time.monotonic() + 60
+    while len(_members(interrupted.pid)) < 3 and interrupted.poll() is None:
+        assert time.monotonic() < deadline, "the workers never started"
+        time.sleep(0.02)
+    time.sleep(1.0)  # the workers lint
+    interrupted.send_signal(signal.SIGINT)
+    _, err = interrupted.communicate(timeout=60)
+    assert interrupted.returncode == 130, err
+    assert "Traceback" not in err and "Warning" not in err, err
+    deadline = time.monotonic() + 10
+    while _members(interrupted.pid):
+        assert time.monotonic() < deadline, "the local cluster's processes outlived the run"
+        time.sleep(0.05)
+    assert not report.exists()
+
+
+def test_workers_that_cannot_build_a_linter_are_one_line_and_exit_2(
+    maps: Path, cluster: LocalCluster, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(engine, "LinterPlugin", BrokenLinterPlugin)
+    result = run("check", "--scheduler", cluster.scheduler_address, maps)
+    assert result.exit_code == 2
+    assert result.stderr == (
+        f"xodrlint: --scheduler {cluster.scheduler_address}: the workers cannot build a linter "
+        "(No module named 'xodrlint.workers.dask'): install this xodrlint, "
+        f"{xodrlint.__version__}, with the same rule plugins, where they run\n"
+    )
