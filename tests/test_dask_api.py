@@ -1,0 +1,277 @@
+"""The Python API on a Dask cluster (``xodrlint.distributed``) and the section "On a Dask
+cluster" of docs/distributed.md: every command and example there runs here, against a
+real scheduler and workers on the loopback interface."""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import re
+import shlex
+import shutil
+import socket
+import subprocess
+import sys
+import time
+import tomllib
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+from packaging.requirements import Requirement
+from typer.testing import CliRunner, Result
+
+pytest.importorskip("distributed", reason="Dask is not installed: pip install 'dask[distributed]'")
+
+from distributed import Client
+
+import xodrlint
+from xodrlint.api import default_registry
+from xodrlint.cli import app
+from xodrlint.distributed import lint_frame, lint_partition, lint_paths
+from xodrlint.engine import Linter, LintOptions
+from xodrlint.findings import FileReport
+
+from .conftest import REPO
+from .test_benchmarks import GENERATE
+
+pytestmark = pytest.mark.loopback
+
+DOC = (REPO / "docs" / "distributed.md").read_text("utf-8")
+SECTION = DOC.split("## On a Dask cluster", 1)[1].split("\n## ", 1)[0]
+BLOCKS = re.findall(r"```(\w+)\n(.*?)```", SECTION, flags=re.DOTALL)
+#: The address the examples give the scheduler, and the port they start it on.
+DOC_ADDRESS = "tcp://scheduler:8786"
+
+
+def run(*args: str | Path) -> Result:
+    return CliRunner().invoke(app, [str(a) for a in args])
+
+
+@pytest.fixture
+def maps(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """A working folder with maps/ (clean generated maps and rule cases with findings)."""
+    folder = tmp_path / "maps"
+    folder.mkdir()
+    for number in range(8):
+        GENERATE.write_network(folder / f"net-{number}.xodr", 4096 * (number + 1))
+    for case in sorted(REPO.glob("rules/[A-Z]*/invalid_*.xodr"))[:6]:
+        shutil.copy(case, folder / f"{case.parent.name}-{case.name}")
+    monkeypatch.chdir(tmp_path)
+    return folder
+
+
+def _reference(paths: list[Path], options: LintOptions | None = None) -> dict[str, FileReport]:
+    linter = Linter(default_registry(), options or LintOptions())
+    return {path.as_posix(): linter.lint_path(path, path.as_posix()) for path in paths}
+
+
+def _same(got: FileReport, expected: FileReport) -> bool:
+    return got._replace(timings={}) == expected._replace(timings={})
+
+
+def test_lint_paths_yields_a_report_per_file_as_files_complete(
+    maps: Path, dask_client: Client
+) -> None:
+    got = list(lint_paths(dask_client, ["maps", "missing.xodr", "maps/*.xodr"]))
+    expected = _reference(sorted(Path("maps").iterdir()))
+    assert got[0] == FileReport("missing.xodr", error="missing.xodr: no such file or directory")
+    by_path = {report.path: report for report in got[1:]}
+    assert len(by_path) == len(got) - 1 == len(expected)  # each file once, named once
+    assert all(_same(by_path[path], report) for path, report in expected.items())
+
+
+def test_lint_paths_in_input_order_with_options_and_excludes(
+    maps: Path, dask_client: Client
+) -> None:
+    options = LintOptions(select=("SW", "XS"))
+    paths = ["maps/net-3.xodr", "nothing-*.xodr", "maps"]
+    got = list(lint_paths(dask_client, paths, options=options, exclude=["*net-1*"], ordered=True))
+    files = [
+        p for p in sorted(Path("maps").iterdir()) if p.name not in ("net-1.xodr", "net-3.xodr")
+    ]
+    expected = _reference([Path("maps/net-3.xodr"), *files], options)
+    assert [report.path for report in got] == [
+        "maps/net-3.xodr",
+        "nothing-*.xodr",
+        *(path.as_posix() for path in files),
+    ]
+    assert got[1].error == "nothing-*.xodr: no file matches"
+    assert all(_same(report, expected[report.path]) for report in got if report.error is None)
+
+
+def test_a_partition_lints_its_paths_in_order_with_one_linter_per_options(maps: Path) -> None:
+    paths = [*sorted(Path("maps").iterdir()), Path("maps/gone.xodr")]
+    got = lint_partition(paths)
+    assert got[-1].error == "maps/gone.xodr: cannot read: no such file or directory"
+    expected = _reference(paths[:-1])
+    assert all(_same(report, expected[report.path]) for report in got[:-1])
+    again = lint_partition(paths[:1])
+    assert _same(again[0], got[0])
+
+
+def test_a_frame_has_a_row_per_finding_and_one_per_file_not_linted(maps: Path) -> None:
+    import pandas as pd
+
+    paths = [*sorted(Path("maps").iterdir()), Path("maps/gone.xodr")]
+    rows = lint_frame(pd.DataFrame({"path": [str(p) for p in paths]}))
+    expected = _reference(paths[:-1])
+    findings = [f for report in expected.values() for f in report.findings]
+    assert len(rows) == len(findings) + 1
+    assert rows["code"].tolist()[:-1] == [f.code for f in findings]
+    assert rows["line"].tolist()[:-1] == [f.line for f in findings]
+    last = rows.iloc[-1]
+    assert last["path"] == "maps/gone.xodr" and pd.isna(last["code"])
+    assert last["error"] == "maps/gone.xodr: cannot read: no such file or directory"
+
+
+# The documentation ------------------------------------------------------------------
+
+
+def test_the_section_shows_each_way_to_run() -> None:
+    kinds = [kind for kind, _ in BLOCKS]
+    assert kinds.count("console") == 2 and kinds.count("python") == 4 and kinds.count("sh") == 1
+    for heading in ("A cluster of this machine", "A running scheduler", "From Python"):
+        assert f"### {heading}" in SECTION
+    assert "### Spark and Ray" in SECTION and "### How it scales" in SECTION
+
+
+def test_the_install_command_names_the_dask_extra() -> None:
+    with (REPO / "pyproject.toml").open("rb") as handle:
+        extras = tomllib.load(handle)["project"]["optional-dependencies"]
+    (command,) = [code for kind, code in BLOCKS if kind == "sh"]
+    requirement = Requirement(shlex.split(command.strip())[2])
+    assert requirement.name == "xodrlint" and requirement.extras == {"dask"}
+    assert [Requirement(r).name for r in extras["dask"]] == ["dask"]
+    assert "distributed" in Requirement(extras["dask"][0]).extras
+
+
+def _free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return int(probe.getsockname()[1])
+
+
+@contextlib.contextmanager
+def _started(command: list[str]) -> Iterator[subprocess.Popen[bytes]]:
+    # the workers run the xodrlint under test, wherever it is imported from here
+    tested = str(Path(xodrlint.__file__).parents[1])
+    path = os.pathsep.join([tested, *filter(None, [os.environ.get("PYTHONPATH")])])
+    process = subprocess.Popen(
+        command,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        env={**os.environ, "PYTHONPATH": path},
+    )
+    try:
+        yield process
+    finally:
+        process.terminate()
+        process.wait(timeout=30)
+
+
+def _dask(line: str, address: str) -> list[str]:
+    """A ``dask`` command of the docs, on the loopback interface, without a dashboard."""
+    words = shlex.split(line.replace(DOC_ADDRESS, address))
+    if words[1] == "scheduler":
+        words[words.index("--port") + 1] = address.rsplit(":", 1)[1]
+    return [sys.executable, "-m", "dask", *words[1:], "--host", "127.0.0.1", "--no-dashboard"]
+
+
+def _on_one_process(words: list[str]) -> list[str]:
+    """The same check without Dask: its scheduler options dropped, ``--jobs 1``, and its
+    report to another file."""
+    plain = []
+    skip = False
+    for word, following in zip(words, [*words[1:], None], strict=True):
+        if skip:
+            skip = False
+        elif word in ("--scheduler", "--scheduler-timeout", "--jobs"):
+            skip = True
+        else:
+            plain.append(word)
+            if word == "--output" and following:
+                plain.append(following + ".one")
+                skip = True
+    return [*plain, "--jobs", "1"]
+
+
+def test_the_commands_run_against_a_scheduler_and_workers_started_as_shown(maps: Path) -> None:
+    lines = [
+        line.strip()
+        for kind, code in BLOCKS
+        if kind == "console"
+        for line in code.splitlines()
+        if line.strip()
+    ]
+    address = f"tcp://127.0.0.1:{_free_port()}"
+    servers = [_dask(line, address) for line in lines if line.startswith("dask ")]
+    checks = [shlex.split(line.replace(DOC_ADDRESS, address))[1:] for line in lines]
+    checks = [words for words in checks if words[0] == "check"]
+    assert len(servers) == 2 and len(checks) == 4
+    with _started(servers[0]), _started(servers[1]):
+        _wait_for_workers(address, 2)
+        for words in checks:
+            done = run(*words)
+            one = run(*_on_one_process(words))
+            assert done.exit_code == one.exit_code == 1, done.stderr
+            assert done.stdout == one.stdout, repr(done.exception)
+            if "--output" in words:
+                target = words[words.index("--output") + 1]
+                assert Path(target).read_bytes() == Path(target + ".one").read_bytes()
+
+
+def _wait_for_workers(address: str, count: int) -> None:
+    deadline = time.monotonic() + 60
+    while True:
+        try:
+            with Client(address, timeout=5, set_as_default=False) as client:
+                client.wait_for_workers(count, timeout=60)
+                return
+        except OSError:
+            assert time.monotonic() < deadline, "the scheduler never started"
+            time.sleep(0.2)
+
+
+def test_the_python_examples_run_on_a_cluster(
+    maps: Path, dask_cluster: Any, capsys: pytest.CaptureFixture[str]
+) -> None:
+    code = [code for kind, code in BLOCKS if kind == "python"]
+    namespace: dict[str, Any] = {}
+    for block in code[:3]:
+        exec(block.replace(DOC_ADDRESS, dask_cluster.scheduler_address), namespace)
+    printed = capsys.readouterr().out.splitlines()
+    paths = sorted(Path("maps").iterdir())
+    ignoring = _reference(paths, LintOptions(ignore=("XL001",)))
+    assert sorted(printed[: len(paths)]) == sorted(
+        f"{path} {len(report.findings)} " for path, report in ignoring.items()
+    )
+    everything = _reference(paths)
+    errors = sum(f.severity == "error" for r in everything.values() for f in r.findings)
+    assert printed[len(paths)] == f"errors: {errors}"
+    codes = {f.code for r in everything.values() for f in r.findings}
+    assert {line.split()[0] for line in printed[len(paths) + 2 : -1]} == codes
+
+
+def test_the_spark_and_ray_pattern_works_on_what_they_hand_over(maps: Path) -> None:
+    import numpy as np
+
+    namespace: dict[str, Any] = {}
+    exec([code for kind, code in BLOCKS if kind == "python"][3], namespace)
+    paths = sorted(Path("maps").iterdir())
+    expected = _reference(paths)
+    rows = [
+        (f.path, f.line, f.column, f.code, str(f.severity), f.message)
+        for report in expected.values()
+        for f in report.findings
+    ]
+    given = [(path.as_posix(), bytearray(path.read_bytes())) for path in paths]  # Spark: bytearray
+    assert list(namespace["lint_rows"](iter(given))) == rows
+    batch = {
+        "path": np.array([path.as_posix() for path in paths]),
+        "bytes": np.array([path.read_bytes() for path in paths], dtype=object),
+    }
+    columns = namespace["lint_batch"](batch)  # Ray: a dict of numpy arrays, by default
+    assert list(columns) == list(namespace["COLUMNS"])
+    assert list(zip(*columns.values(), strict=True)) == rows
