@@ -1,7 +1,7 @@
 """xodrlint against ``xmllint --noout --schema``, side by side, alternating and repeated.
 
     python benchmarks/run.py --schemas ../shared/schemas [--repeat 5] [--workdir DIR]
-                             [--only mixed|rail|findings|all] [--size-mb 20]
+                             [--only mixed|rail|findings|dask|all] [--size-mb 20]
                              [--roads 1000000] [--roads-timeout 900]
 
 Generates the networks (benchmarks/generate.py, benchmarks/railway.py), then runs every
@@ -26,6 +26,10 @@ railway.py (every road a track), "mixed" the city-and-rail network of generate.p
        as the clean one) / on the clean rail 1.7 file
 - F2:  time per finding at ~40,000 findings / at ~5,000 (two many-findings rail files of
        6,667 and 834 blocks; their findings counted once, in the warm-up)
+- D:   2,000 small maps with ``--scheduler local --jobs 2`` (a LocalCluster of two
+       worker processes) / with ``-j 2`` (issue 20); then, on a scheduler and two workers
+       of their own, the per-file overhead of each process and the throughput it projects
+       on N machines (benchmarks/cluster.py, the model of docs/distributed.md)
 - MR1: "1M roads": xodrlint on 1,000,000 tiny schema-invalid roads with the official 1.7
        schema, wall seconds and peak RSS; one run after the rounds (``--roads``, 0 skips it)
 
@@ -55,6 +59,7 @@ from functools import partial
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import cluster
 from generate import GENERATOR_VERSION, network, write_pieces
 from railway import invalid_roads, railway
 
@@ -62,7 +67,8 @@ MB = 1024 * 1024
 GB = 1000**3
 TARGETS = {
     "R1r": 1.3, "R2r": 1.6, "R1": 1.2, "R2": 1.5, "R3": 1.3, "M": 1.3, "Mmix": 1.5,
-    "S": 2.2, "B": 1.6, "G": 1.05, "F": 2.0, "F2": 1.3, "MR1 s": 60.0, "MR1 GB": 3.0,
+    "S": 2.2, "B": 1.6, "G": 1.05, "F": 2.0, "F2": 1.3, "D": 1.3, "MR1 s": 60.0,
+    "MR1 GB": 3.0,
 }  # fmt: skip
 #: Figures that are speed-ups: the higher the better.
 AT_LEAST = frozenset({"B"})
@@ -80,6 +86,7 @@ FIGURES = {
     "G": ("xodrlint 1.7", "1.7 no geometry", "seconds"),
     "F": ("rail defects", "xodrlint rail 1.7", "seconds"),
     "F2": ("findings ~40k", "findings ~5k", "per_finding"),
+    "D": ("dask local 2000", "pool -j 2 2000", "seconds"),
 }
 #: The F2 commands and the blocks of their many-findings railways (3 switches a block, 2
 #: findings a switch).
@@ -187,6 +194,9 @@ class Inputs:
             partial_path.replace(path)
         return path
 
+    def small_maps(self) -> Path:
+        return cluster.small_maps(self.folder)
+
     def mixed(self, megabytes: float, minor: int = 7) -> Path:
         name = f"network-{megabytes:g}mb-1.{minor}.xodr"
         return self.file(name, partial(network, int(megabytes * MB), minor))
@@ -258,7 +268,15 @@ def findings(inputs: Inputs, tools: Tools) -> list[Command]:
     return runs
 
 
-GROUPS = {"mixed": mixed, "rail": rail, "findings": findings}
+def dask(inputs: Inputs, tools: Tools) -> list[Command]:
+    maps = inputs.small_maps()
+    return [
+        tools.xodrlint("pool -j 2 2000", "-j", "2", maps),
+        tools.xodrlint("dask local 2000", "--scheduler", "local", "--jobs", "2", maps),
+    ]
+
+
+GROUPS = {"mixed": mixed, "rail": rail, "findings": findings, "dask": dask}
 
 
 def commands(inputs: Inputs, tools: Tools, only: str = "all") -> list[Command]:
@@ -376,6 +394,9 @@ def main(argv: list[str] | None = None) -> int:
     measure(runs, args.repeat)
     print(machine(tools))
     report(runs)
+    if args.only in ("all", "dask"):
+        found = cluster.measure_overhead(tools.check, tools.env, inputs.small_maps(), args.repeat)
+        print("\n".join(cluster.model(found, os.cpu_count() or 1)), flush=True)
     if args.roads:
         print(roads(inputs, tools, args.roads, args.roads_timeout), flush=True)
     return 0

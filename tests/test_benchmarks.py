@@ -168,18 +168,20 @@ def test_figures_leave_out_commands_that_did_not_run() -> None:
     assert RUN.figures(commands) == {"R1": 1.0, "Mmix": 1.0}
 
 
-@pytest.mark.parametrize("only", ["all", "mixed", "rail", "findings"])
+@pytest.mark.parametrize("only", ["all", "mixed", "rail", "findings", "dask"])
 def test_the_commands_of_a_round(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, only: str
 ) -> None:
     # the files are named, not written
     monkeypatch.setattr(RUN.Inputs, "file", lambda self, name, pieces: self.folder / name)
     monkeypatch.setattr(RUN.Inputs, "batch", lambda self: self.folder / "batch-200")
+    monkeypatch.setattr(RUN.Inputs, "small_maps", lambda self: self.folder / "small-2000")
     tools = RUN.Tools(["xodrlint", "check"], ["xmllint", "--noout"], {})
     names = [command.name for command in RUN.commands(RUN.Inputs(tmp_path, 2.0), tools, only)]
     assert len(names) == len(set(names))  # a command shared by two groups runs once a round
     groups = {"mixed": ("R1", "R2", "R3", "Mmix", "S", "B", "G"), "rail": ("R1r", "R2r", "M")}
     groups["findings"] = ("F", "F2")
+    groups["dask"] = ("D",)
     wanted = [key for group, keys in groups.items() if only in ("all", group) for key in keys]
     for key in wanted:
         top, bottom, _ = RUN.FIGURES[key]
@@ -209,3 +211,19 @@ def test_the_roads_line() -> None:
     command.seconds = [61.0]
     assert RUN.roads_line(command, 900).endswith("MISSED")
     assert RUN._roads_name(20_000) == "20k roads" and RUN._roads_name(1234) == "1234 roads"
+
+
+def test_the_dask_model_projects_from_the_measured_costs() -> None:
+    found = RUN.cluster.Overhead(files=2001, tasks=50)
+    found.wall, found.scheduler = [3.0, 3.2, 3.1], [0.5, 0.5, 0.6]
+    found.client, found.workers = [0.9, 0.9, 0.9], [4.0, 4.0, 4.2]
+    found.one_client, found.one_wall = [0.5, 0.5, 0.5], [1.0, 1.2, 1.1]
+    lines = RUN.cluster.model(found, 2)
+    # the client's start-up is its run on one file: 0.4 s more for 2,000 more files
+    assert lines[0].startswith("per file: workers 2.00 ms CPU, client 0.200 ms")
+    assert "scheduler 0.250 ms (10.0 ms a task, 50 tasks for 2001 files)" in lines[0]
+    assert lines[0].endswith("run wall 3.10 s, on one file 1.10 s")
+    one, *_, most = lines[2:]
+    # one machine: 1,000,000 files at 2 ms over 2 cores, 1,000 s, and 1.1 s of start-up
+    assert one == "     1 machines:      999 files/s (1,001 s, 100 tasks; bound by the workers)"
+    assert most.startswith("   256 machines:") and most.endswith("bound by the client)")
