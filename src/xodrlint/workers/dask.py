@@ -163,17 +163,26 @@ def _lint_all(
     threads = max(1, sum(client.nthreads().values()))
     chunks = schedule(range(len(tasks)), [_size(task) for task in tasks], threads)
     lost: list[int] = []
+    alone: list[int] = []
     for chunk, reports in _run(client, plugin, tasks, chunks, retries):
         if reports is None:
-            lost.extend(chunk)
+            (lost if len(chunk) > 1 else alone).extend(chunk)
         else:
             yield from zip(chunk, reports, strict=True)
-    # each file of a batch that kept killing its workers gets workers of its own
+    # Each file of a batch that kept killing its workers in a task of its own, then each
+    # one that failed in a task of its own alone on the cluster: a worker's death counts
+    # against every task it held, so a file queued behind the culprit may have failed
+    # beside it.
     for chunk, reports in _run(client, plugin, tasks, [[index] for index in lost], retries):
-        (index,) = chunk
-        shown = tasks[index].display
-        crashed = FileReport(shown, error=f"{shown}: the worker linting it crashed")
-        yield index, crashed if reports is None else reports[0]
+        if reports is None:
+            alone.extend(chunk)
+        else:
+            yield chunk[0], reports[0]
+    for index in sorted(alone):
+        for _, reports in _run(client, plugin, tasks, [[index]], retries):
+            shown = tasks[index].display
+            crashed = FileReport(shown, error=f"{shown}: the worker linting it crashed")
+            yield index, crashed if reports is None else reports[0]
 
 
 def _run(
