@@ -225,5 +225,6 @@ def test_the_dask_model_projects_from_the_measured_costs() -> None:
     assert lines[0].endswith("run wall 3.10 s, on one file 1.10 s")
     one, *_, most = lines[2:]
     # one machine: 1,000,000 files at 2 ms over 2 cores, 1,000 s, and 1.1 s of start-up
-    assert one == "     1 machines:      999 files/s (1,001 s, 100 tasks; bound by the workers)"
-    assert most.startswith("   256 machines:") and most.endswith("bound by the client)")
+    assert one == "     1 machines:      999 files/s (1,001 s, 15,660 tasks; bound by the workers)"
+    # 512 workers: 25,306 tasks of at most 64 files, 253 s at 10 ms, above the client's 200 s
+    assert most == "   256 machines:    3,935 files/s (254 s, 25,306 tasks; bound by the scheduler)"

@@ -353,3 +353,14 @@ def test_workers_that_cannot_build_a_linter_are_one_line_and_exit_2(
         "(No module named 'xodrlint.workers.dask'): install this xodrlint, "
         f"{xodrlint.__version__}, with the same rule plugins, where they run\n"
     )
+
+
+def test_jsonl_streams_from_the_cluster_the_lines_of_one_process(
+    maps: Path, cluster: LocalCluster
+) -> None:
+    one = run("check", "-f", "jsonl", "-j", "1", maps)
+    streamed = run("check", "-f", "jsonl", "--scheduler", cluster.scheduler_address, maps)
+    assert streamed.exit_code == one.exit_code == 1, streamed.stderr
+    lines = streamed.stdout.splitlines()
+    assert len(lines) > 40 and sorted(lines) == sorted(one.stdout.splitlines())
+    assert streamed.stderr == one.stderr
