@@ -107,6 +107,26 @@ def dask_cluster(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Any]:
             ) as started,
         ):
             yield started
+    _release_dask_threads()
+
+
+def _release_dask_threads() -> None:
+    """Dask keeps a thread for the rest of the process's life once it has used it (its
+    offload executor): the tests after a Dask module get a process without threads again,
+    as a command-line run is, or their pools would not fork (``workers.batch``)."""
+    import threading
+    import time
+    from concurrent.futures import ThreadPoolExecutor
+
+    from distributed import utils
+
+    utils._offload_executor.shutdown(wait=True)
+    utils._offload_executor = ThreadPoolExecutor(1, thread_name_prefix="Dask-Offload")
+    deadline = time.monotonic() + 30
+    while threading.active_count() > 1:  # the clients' event loops end as they close
+        names = [thread.name for thread in threading.enumerate()]
+        assert time.monotonic() < deadline, f"threads outlived the Dask tests: {names}"
+        time.sleep(0.05)
 
 
 @pytest.fixture(scope="module")
