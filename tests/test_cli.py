@@ -599,7 +599,7 @@ def _params_of(path: tuple[str, ...]) -> list[Any]:
 #: What typer and click write where a parameter names no metavar of its own: its type
 #: (<str>, <int range>) or choices (<auto|always|never>), TEXT, INTEGER, {name}.
 HELP_PLACEHOLDERS = re.compile(r"<[a-z][a-z |]*>|\bTEXT\b|INTEGER|\{")
-#: A metavar says what to give: FILE, PATH..., CODES, NAME=NUMBER, K/N.
+#: A metavar says what to give: FILE, PATH..., CODES, NAME=VALUE, K/N.
 METAVAR = re.compile(r"[A-Z][A-Z0-9_]*([=/][A-Z]+)?(\.\.\.)?")
 
 

@@ -131,7 +131,7 @@ def test_severity_override_changes_the_exit_code(tmp_path: Path) -> None:
         ('selct = ["XS"]\n', "unknown key 'selct'"),
         ('select = "XS006"\nfail-on = "fatal"\n', "'fail-on' must be one of"),
         ("rail-min-width = 'wide'\n", "'rail-min-width' must be a finite number"),
-        ("rail-min-width = -1\n", "'rail-min-width' must be >= 0, got -1"),
+        ("rail-min-width = -1\n", "'rail-min-width' must be a finite number >= 0, got -1"),
         ("[severity]\nXX999 = 'error'\n", "'severity' names no rule 'XX999'"),
         ("[per-file-ignores]\n'*.xodr' = 3\n", "'per-file-ignores' must be"),
         ("select = [\n", "not valid TOML"),

@@ -173,9 +173,22 @@ def test_any_rule_option_by_name_on_the_command_line(tmp_path: Path) -> None:
     runner = CliRunner()
     ok = runner.invoke(app, ["check", "-q", "--rule-option", "rail-min-width=1.0", str(path)])
     assert ok.exit_code == 0
-    for bad in ("rail-min-width", "rail-min-width=wide", "=1"):
+    for bad, expected in [
+        ("rail-min-width", "--rule-option rail-min-width: expected NAME=VALUE"),
+        ("=1", "--rule-option =1: expected NAME=VALUE"),
+        (
+            "rail-min-width=wide",
+            "--rule-option rail-min-width=wide: expected NAME=NUMBER, "
+            "'rail-min-width' takes a finite number >= 0",
+        ),
+        (
+            "rail-min-width=-1",
+            "--rule-option rail-min-width=-1: expected NAME=NUMBER, "
+            "'rail-min-width' takes a finite number >= 0",
+        ),
+    ]:
         refused = runner.invoke(app, ["check", "--rule-option", bad, str(path)])
-        assert refused.exit_code == 2 and "expected NAME=NUMBER" in refused.stderr
+        assert refused.exit_code == 2 and refused.stderr == f"xodrlint: {expected}\n"
     unknown = runner.invoke(app, ["check", "--rule-option", "gauge=1", str(path)])
     assert unknown.exit_code == 2 and "unknown rule option 'gauge'" in unknown.stderr
 

@@ -44,7 +44,7 @@ def _linter(
     select: tuple[str, ...],
     ignore: tuple[str, ...],
     schema: Path | None,
-    rule_options: tuple[tuple[str, float], ...],
+    rule_options: tuple[tuple[str, float | str], ...],
 ) -> Linter:
     options = LintOptions(
         select=select, ignore=ignore, schema=schema, rule_options=dict(rule_options)
@@ -56,7 +56,7 @@ def _linter_for(
     select: Sequence[str],
     ignore: Sequence[str],
     schema: str | os.PathLike[str] | None,
-    rule_options: Mapping[str, float] | None,
+    rule_options: Mapping[str, float | str] | None,
 ) -> Linter:
     options = tuple(sorted((rule_options or {}).items()))
     return _linter(tuple(select), tuple(ignore), Path(schema) if schema else None, options)
@@ -68,7 +68,7 @@ def lint_file(
     select: Sequence[str] = ("ALL",),
     ignore: Sequence[str] = (),
     schema: str | os.PathLike[str] | None = None,
-    rule_options: Mapping[str, float] | None = None,
+    rule_options: Mapping[str, float | str] | None = None,
 ) -> FileReport:
     """Lint one file; a file that cannot be read gives a report with ``error`` set.
 
@@ -85,7 +85,7 @@ def lint_bytes(
     select: Sequence[str] = ("ALL",),
     ignore: Sequence[str] = (),
     schema: str | os.PathLike[str] | None = None,
-    rule_options: Mapping[str, float] | None = None,
+    rule_options: Mapping[str, float | str] | None = None,
 ) -> FileReport:
     """Lint the contents of a file; ``path`` is only the name findings carry."""
     linter = _linter_for(select, ignore, schema, rule_options)

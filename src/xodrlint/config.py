@@ -15,7 +15,7 @@ from functools import cache, lru_cache
 from pathlib import Path
 from typing import Any, Final, NamedTuple
 
-from xodrlint.findings import Severity
+from xodrlint.findings import RuleOption, Severity
 
 #: Looked for in each folder, in this order; a pyproject.toml counts only with [tool.xodrlint].
 CONFIG_NAMES: Final = (".xodrlint.toml", "xodrlint.toml", "pyproject.toml")
@@ -121,9 +121,9 @@ class Settings:
     exclude: tuple[str, ...] = ()
     respect_gitignore: bool = True
     """Whether folder walks leave out what .gitignore, .ignore and info/exclude exclude."""
-    rule_options: Mapping[str, float] = field(default_factory=dict)
+    rule_options: Mapping[str, float | str] = field(default_factory=dict)
     """The rule options a config file or the command line set; the rest keep defaults."""
-    option_defaults: Mapping[str, float] = field(default_factory=dict)
+    option_defaults: Mapping[str, float | str] = field(default_factory=dict)
     """Every rule option the rules declare, a plugin's too, with its default."""
     warn_unused_suppressions: bool = False
     max_file_size: int = DEFAULT_MAX_FILE_SIZE
@@ -285,20 +285,18 @@ def settings_from(
     config: ConfigFile | None,
     overrides: Mapping[str, object],
     *,
-    option_minimums: Mapping[str, float] | None = None,
-    option_defaults: Mapping[str, float] | None = None,
+    rule_options: Mapping[str, RuleOption] | None = None,
     known_codes: Iterable[str] = (),
 ) -> Settings:
     """The effective settings: defaults, then ``config``, then ``overrides`` (the command
-    line, ``None`` meaning not given). ``option_minimums`` gives each rule option the rules
-    declare with its smallest allowed value, ``option_defaults`` with its default (for
-    ``xodrlint config``); ``known_codes`` the codes ``severity`` may name."""
-    minimums = dict(option_minimums or {})
-    options = set(minimums)
+    line, ``None`` meaning not given). ``rule_options`` are the options the rules declare
+    (a plugin's too), by name: a config file may set them, and ``xodrlint config`` shows
+    each with its default; ``known_codes`` are the codes ``severity`` may name."""
+    options = dict(rule_options or {})
     values: dict[str, object] = {}
     sources: dict[str, str] = {}
     if config is not None:
-        values.update(_validated(config, minimums, set(known_codes)))
+        values.update(_validated(config, options, set(known_codes)))
         sources.update(dict.fromkeys(values, str(config.path)))
     for key, value in overrides.items():
         if value is not None:
@@ -320,8 +318,8 @@ def settings_from(
         sarif_max_results=int(_get(values, "sarif-max-results", DEFAULT_SARIF_MAX_RESULTS)),
         exclude=tuple(_get(values, "exclude", ())),
         respect_gitignore=bool(values.get("respect-gitignore", True)),
-        rule_options={name: float(values[name]) for name in options if name in values},  # type: ignore[arg-type]
-        option_defaults=dict(option_defaults or {}),
+        rule_options={name: values[name] for name in options if name in values},  # type: ignore[misc]
+        option_defaults={name: option.default for name, option in options.items()},
         warn_unused_suppressions=bool(values.get("warn-unused-suppressions", False)),
         max_file_size=int(_get(values, "max-file-size", DEFAULT_MAX_FILE_SIZE)),
         rule_timeout=float(_get(values, "rule-timeout", DEFAULT_RULE_TIMEOUT)),
@@ -336,12 +334,13 @@ def _get(values: Mapping[str, object], key: str, default: Any) -> Any:
 
 
 def _validated(
-    config: ConfigFile, options: Mapping[str, float], codes: set[str]
+    config: ConfigFile, options: Mapping[str, RuleOption], codes: set[str]
 ) -> dict[str, object]:
     where = f"{config.path} [{config.section}]" if config.section else config.path
     values: dict[str, object] = {}
     for key, raw in config.table.items():
-        reader = _READERS.get(key) or (_number if key in options else None)
+        option = options.get(key)
+        reader = _READERS.get(key) or (option.checked if option is not None else None)
         if reader is None:
             known = ", ".join(sorted([*_READERS, *options]))
             raise ConfigError(f"{where}: unknown key '{key}' (known: {known})")
@@ -349,8 +348,6 @@ def _validated(
             values[key] = reader(raw)
         except TypeError as expected:
             raise ConfigError(f"{where}: '{key}' must be {expected}, got {raw!r}") from None
-        if key in options and values[key] < options[key]:  # type: ignore[operator]
-            raise ConfigError(f"{where}: '{key}' must be >= {options[key]:g}, got {raw!r}")
     unknown = [code for code in _get(values, "severity", {}) if codes and code not in codes]
     if unknown:
         raise ConfigError(f"{where}: 'severity' names no rule '{unknown[0]}'")

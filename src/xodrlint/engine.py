@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import contextlib
 import gc
-import math
 import re
 import time
 from collections.abc import Iterable, Iterator, Mapping, Sequence
@@ -76,7 +75,7 @@ class LintOptions(NamedTuple):
     schema_origin: Origin = Origin.OPTION
     keep_source: bool = False
     """Attach the text of each finding's line to the report (for ``--show-source``)."""
-    rule_options: Mapping[str, float] = NO_ENTRIES
+    rule_options: Mapping[str, float | str] = NO_ENTRIES
     """Rule option values by option name (``rail-min-width``); the rest keep defaults."""
     keep_suppressed: bool = False
     """Keep withheld findings in the report (SARIF lists them as suppressed)."""
@@ -107,24 +106,53 @@ def select_rules(registry: Registry, select: Sequence[str], ignore: Sequence[str
     return chosen
 
 
-def resolve_rule_options(registry: Registry, values: Mapping[str, float]) -> dict[str, float]:
-    """Every option the registry's rules declare, with ``values`` laid over the defaults."""
+def declared_options(registry: Registry) -> dict[str, RuleOption]:
+    """Every option the registry's rules declare, by name (the first rule's declaration
+    where two share a name)."""
     declared: dict[str, RuleOption] = {}
     for candidate in registry.rules:
         for option in candidate.meta.options:
             declared.setdefault(option.name, option)
+    return declared
+
+
+def resolve_rule_options(
+    registry: Registry, values: Mapping[str, float | str]
+) -> dict[str, float | str]:
+    """Every option the registry's rules declare, with ``values`` laid over the defaults."""
+    declared = declared_options(registry)
     resolved = {name: option.default for name, option in declared.items()}
     for name, value in values.items():
         if name not in declared:
             known = ", ".join(sorted(declared)) or "none"
             raise OptionError(f"unknown rule option '{name}' (known: {known})")
-        option = declared[name]
-        if not math.isfinite(value) or value < option.minimum:
-            raise OptionError(
-                f"rule option '{name}' must be a finite number >= {option.minimum:g}, got {value!r}"
-            )
-        resolved[name] = float(value)
+        try:
+            resolved[name] = declared[name].checked(value)
+        except TypeError as expected:
+            raise OptionError(f"rule option '{name}' must be {expected}, got {value!r}") from None
     return resolved
+
+
+def command_line_options(
+    registry: Registry, given: Mapping[str, float | str]
+) -> dict[str, float | str]:
+    """The rule options of a command line with each one's text (``--rule-option
+    NAME=VALUE``) read as its option takes it: a number, a text, a regular expression."""
+    declared = declared_options(registry)
+    values: dict[str, float | str] = {}
+    for name, value in given.items():
+        option = declared.get(name)
+        if option is None or not isinstance(value, str):
+            values[name] = value  # an unknown name or a flag's number: resolve says
+            continue
+        try:
+            values[name] = option.parsed(value)
+        except TypeError as expected:
+            shape = "NAME=NUMBER" if option.is_number else "NAME=VALUE"
+            raise OptionError(
+                f"--rule-option {name}={value}: expected {shape}, '{name}' takes {expected}"
+            ) from None
+    return values
 
 
 def _best(tokens: Iterable[str], candidate: Rule) -> int | None:

@@ -150,25 +150,86 @@ class Suppressed(NamedTuple):
     justification: str = ""
 
 
-class RuleOption(NamedTuple):
-    """A number a user may set for a rule (``--rail-min-width``, ``rail-min-width = ...``).
+#: What a rule option holds: a number (with a unit and a minimum), any text, or a regular
+#: expression (text that must compile; the rule matches names or ids against it).
+OPTION_KINDS: Final = ("number", "text", "regex")
 
-    Options are global by name: rules that share a name share the value.
+
+class RuleOption(NamedTuple):
+    """A value a user may set for a rule (``--rail-min-width``, ``rail-min-width = ...``,
+    ``--rule-option NAME=VALUE``).
+
+    Options are global by name: rules that share a name share the value. ``kind`` says
+    what the value is (see :data:`OPTION_KINDS`); ``unit`` and ``minimum`` apply to
+    numbers only. A rule reads its value with :meth:`number` or :meth:`text`.
     """
 
     name: str
-    default: float
+    default: float | str
     description: str
     unit: str = "m"
     minimum: float = 0.0
     """Values below this are refused (a negative width or tolerance makes no sense)."""
+    kind: str = "number"
+
+    @property
+    def is_number(self) -> bool:
+        return self.kind == "number"
+
+    def number(self, settings: Mapping[str, "float | str"]) -> float:
+        """This number option's value in ``settings`` (its default where unset)."""
+        value = settings.get(self.name, self.default)
+        if not self.is_number or isinstance(value, str):
+            raise TypeError(f"rule option '{self.name}' is {self.kind}, not a number")
+        return float(value)
+
+    def text(self, settings: Mapping[str, "float | str"]) -> str:
+        """This text or regex option's value in ``settings`` (its default where unset)."""
+        value = settings.get(self.name, self.default)
+        if self.is_number or not isinstance(value, str):
+            raise TypeError(f"rule option '{self.name}' is a number, not text")
+        return value
+
+    def checked(self, value: object) -> "float | str":
+        """``value`` as this option takes it (an int becomes a float); a ``TypeError``
+        saying what the option takes when it does not (a config file's wrong type, a
+        negative width, a pattern that does not compile)."""
+        if self.is_number:
+            import math
+
+            if isinstance(value, bool) or not isinstance(value, int | float):
+                raise TypeError(f"a finite number >= {self.minimum:g}")
+            if not math.isfinite(value) or value < self.minimum:
+                raise TypeError(f"a finite number >= {self.minimum:g}")
+            return float(value)
+        if not isinstance(value, str):
+            raise TypeError("a regular expression" if self.kind == "regex" else "a string")
+        if self.kind == "regex":
+            import re
+
+            try:
+                re.compile(value)
+            except re.error as error:
+                raise TypeError(f"a regular expression ({error})") from None
+        return value
+
+    def parsed(self, raw: str) -> "float | str":
+        """A value typed on the command line (``--rule-option NAME=VALUE``), checked."""
+        if not self.is_number:
+            return self.checked(raw)
+        try:
+            number = float(raw)
+        except ValueError:
+            raise TypeError(f"a finite number >= {self.minimum:g}") from None
+        return self.checked(number)
 
     def as_dict(self) -> dict[str, object]:
         return {
             "name": self.name,
+            "kind": self.kind,
             "default": self.default,
-            "unit": self.unit,
-            "minimum": self.minimum,
+            "unit": self.unit if self.is_number else None,
+            "minimum": self.minimum if self.is_number else None,
             "description": self.description,
         }
 

@@ -52,6 +52,8 @@ from xodrlint.engine import (
     LintOptions,
     OptionError,
     SelectorError,
+    command_line_options,
+    declared_options,
     resolve_rule_options,
     select_rules,
 )
@@ -82,7 +84,9 @@ class CheckRequest(NamedTuple):
     quiet: bool = False
     show_source: bool = False
     stdin_filename: str | None = None
-    rule_options: Mapping[str, float] = NO_ENTRIES
+    rule_options: Mapping[str, float | str] = NO_ENTRIES
+    """Rule options by name: a flag's number, or ``--rule-option NAME=VALUE``'s text,
+    which :func:`prepare_linter` reads as the option takes it."""
     config: Path | None = None
     isolated: bool = False
     exclude: tuple[str, ...] | None = None
@@ -129,14 +133,10 @@ def resolve_settings(
     else:
         first = next((p for p in paths if p != STDIN), ".")
         found = find_config(Path(first))
-    minimums = {
-        option.name: option.minimum for rule in registry.rules for option in rule.meta.options
-    }
     return settings_from(
         found,
         overrides or {},
-        option_minimums=minimums,
-        option_defaults=resolve_rule_options(registry, {}),
+        rule_options=declared_options(registry),
         known_codes=registry.by_code,
     )
 
@@ -155,7 +155,6 @@ def _overrides(request: CheckRequest) -> dict[str, object]:
         "warn-unused-suppressions": request.warn_unused_suppressions,
         "max-file-size": _max_file_size(request.max_file_size),
         "rule-timeout": request.rule_timeout,
-        **request.rule_options,
     }
 
 
@@ -325,13 +324,14 @@ def prepare_linter(registry: Registry, request: CheckRequest) -> tuple[Settings,
     with exactly what ``check`` would). Raises the errors ``run_check`` reports as usage
     errors: :class:`ConfigError`, :class:`SelectorError`, :class:`OptionError`,
     :class:`UsageError`."""
-    resolve_rule_options(registry, request.rule_options)  # names the command line got
+    given = command_line_options(registry, request.rule_options)
+    resolve_rule_options(registry, given)  # names and values the command line got
     settings = resolve_settings(
         registry,
         request.paths,
         config=request.config,
         isolated=request.isolated,
-        overrides=_overrides(request),
+        overrides={**_overrides(request), **given},
     )
     return settings, _linter(registry, settings, request)
 

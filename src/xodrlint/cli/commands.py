@@ -388,8 +388,8 @@ def check(
     rule_option: Annotated[
         list[str] | None,
         typer.Option(
-            metavar="NAME=NUMBER",
-            help="Any rule option, a plugin's too: NAME=NUMBER (repeatable).",
+            metavar="NAME=VALUE",
+            help="Any rule option, a plugin's too: NAME=VALUE (repeatable).",
             rich_help_panel=_RULE_OPTIONS,
         ),
     ] = None,
@@ -439,24 +439,22 @@ def check(
 
 def _rule_options(
     named: list[str] | None, rail_min_width: float | None, refline_tolerance: float | None
-) -> dict[str, float]:
-    """The rule options a command line gave: ``--rule-option NAME=NUMBER`` entries, and
-    the built-in rules' own flags, which win."""
+) -> dict[str, float | str]:
+    """The rule options a command line gave: ``--rule-option NAME=VALUE`` entries (their
+    text, read once the rules are known: a number option takes a number, a text option
+    any text), and the built-in rules' own flags, which win."""
     flags = {"rail-min-width": rail_min_width, "refline-tolerance": refline_tolerance}
     given = {name: value for name, value in flags.items() if value is not None}
     return {**_named_options(named or []), **given}
 
 
-def _named_options(entries: list[str]) -> dict[str, float]:
-    values: dict[str, float] = {}
+def _named_options(entries: list[str]) -> dict[str, float | str]:
+    values: dict[str, float | str] = {}
     for entry in entries:
         name, sign, raw = entry.partition("=")
-        try:
-            values[name.strip()] = float(raw)
-        except ValueError:
-            sign = ""
         if not sign or not name.strip():
-            _fail(f"--rule-option {entry}: expected NAME=NUMBER")
+            _fail(f"--rule-option {entry}: expected NAME=VALUE")
+        values[name.strip()] = raw
     return values
 
 
@@ -528,7 +526,7 @@ def map_command(
         float | None, typer.Option(metavar="METRES", help="As for check.")
     ] = None,
     rule_option: Annotated[
-        list[str] | None, typer.Option(metavar="NAME=NUMBER", help="As for check.")
+        list[str] | None, typer.Option(metavar="NAME=VALUE", help="As for check.")
     ] = None,
 ) -> None:
     """Draw the network with every finding on it: a self-contained HTML page or an SVG."""

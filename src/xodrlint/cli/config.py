@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import sys
 from pathlib import Path
 
@@ -13,15 +14,16 @@ from xodrlint.output import error_line as _error
 
 def show_config(paths: tuple[str, ...], config: Path | None, output_format: str) -> int:
     """The effective configuration for ``paths`` and where each value comes from."""
+    registry = default_registry()
+    for warning in registry.warnings:  # a refused pack's options are unknown keys
+        _error(f"warning: {warning}")
     try:
-        settings = resolve_settings(default_registry(), paths, config=config)
+        settings = resolve_settings(registry, paths, config=config)
     except ConfigError as error:
         _error(str(error))
         return 2
     rows = settings.as_rows()
     if output_format == "json":
-        import json
-
         document = {
             "config_file": str(settings.config_file) if settings.config_file else None,
             "settings": {key: {"value": value, "source": source} for key, value, source in rows},
@@ -43,7 +45,9 @@ def _toml(value: object) -> str:
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, str):
-        return f'"{value}"'
+        # a regular expression's backslashes read as written in a literal string
+        literal = ("\\" in value or '"' in value) and "'" not in value and "\n" not in value
+        return f"'{value}'" if literal else json.dumps(value, ensure_ascii=False)
     if isinstance(value, list):
         return "[" + ", ".join(_toml(item) for item in value) + "]"
     if isinstance(value, dict):

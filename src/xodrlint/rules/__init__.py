@@ -20,13 +20,14 @@ from collections.abc import Callable, Iterable, Iterator, Mapping
 from types import ModuleType
 from typing import Final, NamedTuple
 
-from xodrlint.findings import Hit, RuleMeta, RuleOption, Severity
+from xodrlint.findings import OPTION_KINDS, Hit, RuleMeta, RuleOption, Severity
 from xodrlint.model import RailNetwork
 
 __all__ = ["Hit", "RailNetwork", "Rule", "RuleOption", "Settings", "Severity", "collect", "rule"]
 
-Settings = Mapping[str, float]
-"""Option values by option name."""
+Settings = Mapping[str, float | str]
+"""Option values by option name (read them with :meth:`RuleOption.number` and
+:meth:`RuleOption.text`)."""
 PlainCheck = Callable[[RailNetwork], Iterable[Hit]]
 ConfiguredCheck = Callable[[RailNetwork, Settings], Iterable[Hit]]
 
@@ -73,6 +74,8 @@ def rule(
     if not NAME_PATTERN.match(name):
         raise ValueError(f"rule name {name!r} is not kebab-case")
     declared = tuple(options)
+    for option in declared:
+        _check_declaration(code, option)
 
     def wrap(check: PlainCheck | ConfiguredCheck) -> Rule:
         module = sys.modules.get(check.__module__)
@@ -96,6 +99,21 @@ def rule(
         return Rule(meta, _configured(check, takes_settings=bool(declared)))
 
     return wrap
+
+
+def _check_declaration(code: str, option: RuleOption) -> None:
+    """A pack's mistake in an option is its import's error (the pack is skipped with a
+    warning), not every user's error later."""
+    if not NAME_PATTERN.match(option.name):
+        raise ValueError(f"{code}: option name {option.name!r} is not kebab-case")
+    if option.kind not in OPTION_KINDS:
+        raise ValueError(f"{code}: option {option.name!r} has kind {option.kind!r}")
+    try:
+        option.checked(option.default)
+    except TypeError as expected:
+        raise ValueError(
+            f"{code}: option {option.name!r} defaults to {option.default!r}, not {expected}"
+        ) from None
 
 
 def _configured(check: PlainCheck | ConfiguredCheck, *, takes_settings: bool) -> ConfiguredCheck:

@@ -109,7 +109,7 @@ def _is_track_road(road: Road) -> bool:
     options=(TOLERANCE,),
 )
 def refline_not_centered(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
-    tolerance = settings[TOLERANCE.name]
+    tolerance = TOLERANCE.number(settings)
 
     def off_centre(template: Road, length: float | None) -> list[_OffCentre]:
         if not _is_track_road(template):

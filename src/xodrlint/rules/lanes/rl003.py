@@ -79,7 +79,7 @@ MIN_WIDTH: Final = RuleOption(
     options=(MIN_WIDTH,),
 )
 def rail_lane_too_narrow(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
-    minimum = settings[MIN_WIDTH.name]
+    minimum = MIN_WIDTH.number(settings)
 
     def narrowest(template: Road, length: float | None) -> list[_Narrow]:
         found = []

@@ -76,7 +76,7 @@ TOLERANCE: Final = RuleOption(
     options=(TOLERANCE,),
 )
 def switch_tracks_apart(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
-    tolerance = settings[TOLERANCE.name]
+    tolerance = TOLERANCE.number(settings)
     for switch, (main, side) in switches_with_points(network):
         if switch.main_track is None or switch.side_track is None:
             continue

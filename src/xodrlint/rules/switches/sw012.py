@@ -82,12 +82,13 @@ ANGLE: Final = RuleOption(
 def switch_direction_mismatch(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
     from xodrlint.geometry.tracks import turn_beyond
 
-    limit = settings[ANGLE.name]
+    limit = ANGLE.number(settings)
+    apart = TOLERANCE.number(settings) + S_TOLERANCE
     for switch, (main_point, side_point) in switches_with_points(network):
         main, side = switch.main_track, switch.side_track
         if main is None or side is None or main.dir not in ("+", "-") or side.dir not in ("+", "-"):
             continue
-        if main_point.distance_to(side_point) > settings[TOLERANCE.name] + S_TOLERANCE:
+        if main_point.distance_to(side_point) > apart:
             continue  # SW011's defect: directions at two places say nothing
         entering = main_point.direction(main.dir)
         leaving = side_point.direction(side.dir)

@@ -73,7 +73,7 @@ TOLERANCE: Final = RuleOption(
     options=(TOLERANCE,),
 )
 def track_link_gap(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
-    tolerance = settings[TOLERANCE.name]
+    tolerance = TOLERANCE.number(settings)
     for joint in joints(network):
         first, second = joint.first_point, joint.second_point
         distance = first.distance_to(second)

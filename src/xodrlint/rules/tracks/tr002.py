@@ -74,7 +74,7 @@ ANGLE: Final = RuleOption(
 def track_link_kink(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
     from xodrlint.geometry.tracks import turn_beyond
 
-    limit = settings[ANGLE.name]
+    limit = ANGLE.number(settings)
     for joint in joints(network):
         leaving, entering = joint.leaving, joint.entering
         angle = turn_beyond(leaving, entering, limit)
