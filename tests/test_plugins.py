@@ -40,7 +40,7 @@ def test_a_changed_environment_is_scanned_again(
     plugins.installed("xodrlint.rules")
     path = plugins.cache_path()
     stale = json.loads(cache.read(path) or b"")
-    stale["entries"][0]["groups"]["xodrlint.rules"] = [["ghost", "nowhere:nothing"]]
+    stale["entries"][0]["groups"]["xodrlint.rules"] = [["ghost", "nowhere:nothing", "", ""]]
     assert cache.write(path, json.dumps(stale).encode())
     assert [p.name for p in plugins.installed("xodrlint.rules")] == ["ghost"]  # trusted
     extra = tmp_path / "site"

@@ -234,6 +234,25 @@ class RuleOption(NamedTuple):
         }
 
 
+class PackInfo(NamedTuple):
+    """The rule pack a rule came from: its entry point's name (``switches``, ``house``)
+    and the distribution that installed it (``""`` where unknown)."""
+
+    name: str
+    distribution: str = ""
+    version: str = ""
+    builtin: bool = False
+    """One of xodrlint's own packs."""
+
+    def as_dict(self) -> dict[str, object]:
+        return {
+            "name": self.name,
+            "distribution": self.distribution or None,
+            "version": self.version or None,
+            "builtin": self.builtin,
+        }
+
+
 class RuleMeta(NamedTuple):
     """What reports need to know about a rule, without its code.
 
@@ -256,6 +275,8 @@ class RuleMeta(NamedTuple):
     opt_in: bool = False
     """Off by default: ``ALL`` (the default selection) and a prefix shorter than its
     family (``X`` for ``XL001``) do not name it; its family, code, name or a UID do."""
+    origin: PackInfo | None = None
+    """The pack that registered the rule (``None`` for a rule no entry point loaded)."""
 
     @property
     def uids(self) -> tuple[str, ...]:

@@ -26,18 +26,21 @@ from xodrlint import cache
 
 GROUPS: Final = ("xodrlint.rules", "xodrlint.formatters")
 CACHE_ENV: Final = cache.ENV
-FORMAT: Final = 3
+FORMAT: Final = 4
 #: Keys kept per environment: ways of starting xodrlint there (console script, ``-m``
 #: from a few folders).
 KEYS_KEPT: Final = 4
 
 
 class Plugin(NamedTuple):
-    """An entry point, as much of it as xodrlint uses: its name, target and ``load``."""
+    """An entry point, as much of it as xodrlint uses: its name, target, the distribution
+    that declares it (name and version, ``""`` where unknown) and ``load``."""
 
     name: str
     value: str
     group: str
+    distribution: str = ""
+    version: str = ""
 
     def load(self) -> object:
         module, _, attribute = self.value.partition(":")
@@ -67,10 +70,17 @@ def installed(group: str) -> list[Plugin]:
         if entry["key"] == key:
             if index:  # the most recently used first: a fifth way of starting evicts the oldest
                 _keep(path, [entry, *entries[:index], *entries[index + 1 :]])
-            return [Plugin(name, value, group) for name, value in entry["groups"].get(group, [])]
+            return _plugins(entry["groups"], group)
     groups = _scan()
     _keep(path, [{"key": key, "groups": groups}, *entries])
-    return [Plugin(name, value, group) for name, value in groups.get(group, [])]
+    return _plugins(groups, group)
+
+
+def _plugins(groups: dict[str, list[list[str]]], group: str) -> list[Plugin]:
+    return [
+        Plugin(name, value, group, distribution, version)
+        for name, value, distribution, version in groups.get(group, [])
+    ]
 
 
 def _keep(path: Path, entries: list[dict[str, Any]]) -> None:
@@ -105,7 +115,7 @@ def _well_formed(entry: object) -> bool:
         isinstance(name, str)
         and isinstance(points, list)
         and all(
-            isinstance(point, list) and len(point) == 2 and all(isinstance(p, str) for p in point)
+            isinstance(point, list) and len(point) == 4 and all(isinstance(p, str) for p in point)
             for point in points
         )
         for name, points in groups.items()
@@ -124,6 +134,17 @@ def _scan() -> dict[str, list[list[str]]]:
     from importlib.metadata import entry_points
 
     return {
-        group: sorted([point.name, point.value] for point in entry_points(group=group))
+        group: sorted(
+            [point.name, point.value, *_distribution(point)] for point in entry_points(group=group)
+        )
         for group in GROUPS
     }
+
+
+def _distribution(point: Any) -> list[str]:
+    """The name and version of the distribution declaring ``point`` (for warnings and
+    ``xodrlint rules``), empty where importlib cannot say."""
+    dist = getattr(point, "dist", None)
+    if dist is None:
+        return ["", ""]
+    return [str(dist.name or ""), str(dist.version or "")]

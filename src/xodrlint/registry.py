@@ -1,7 +1,9 @@
 """The rule registry: every rule pack installed under the ``xodrlint.rules`` entry points.
 
 The built-in packs register the same way a third-party pack does. A pack that fails to
-load, or that reuses a code, is a warning; the other packs still run.
+load, that was written for another rule API (``XODRLINT_RULE_API``), or that uses a code
+prefix reserved for xodrlint's own rules is refused with one warning naming it; a rule
+that reuses another pack's code is left out with a warning. The other packs still run.
 """
 
 from __future__ import annotations
@@ -13,11 +15,16 @@ from dataclasses import dataclass, field
 from types import ModuleType
 from typing import Final, Protocol
 
-from xodrlint.findings import RuleMeta
+from xodrlint.findings import PackInfo, RuleMeta
 from xodrlint.plugins import installed
-from xodrlint.rules import Rule, collect
+from xodrlint.rules import API_VERSION, RESERVED_PREFIXES, Rule, collect
 
 ENTRY_POINT_GROUP: Final = "xodrlint.rules"
+#: What a pack names, in the module its entry point names, to state the rule API it was
+#: written for: ``XODRLINT_RULE_API = (1, 0)``.
+API_DECLARATION: Final = "XODRLINT_RULE_API"
+#: The built-in packs' modules: only they may use the reserved code prefixes.
+BUILTIN_MODULES: Final = "xodrlint.rules."
 
 
 class _Point(Protocol):
@@ -30,6 +37,10 @@ class _Point(Protocol):
     def value(self) -> str: ...
 
     def load(self) -> object: ...
+
+
+class PackRefused(Exception):
+    """A pack xodrlint does not load; the message says why, naming the pack."""
 
 
 @dataclass(frozen=True)
@@ -60,15 +71,11 @@ def load_registry(points: Iterable[_Point] | None = None) -> Registry:
         points = installed(ENTRY_POINT_GROUP)
     rules: dict[str, Rule] = {}
     warnings: list[str] = []
-    for point in sorted(points, key=lambda p: (p.value.startswith("xodrlint.") is False, p.name)):
+    for point in sorted(points, key=lambda p: (not _builtin(p), p.name)):
         try:
-            with contextlib.redirect_stdout(sys.stderr):  # a pack that prints on import
-                loaded = point.load()
-                pack = _rules_of(loaded)
-        except KeyboardInterrupt:
-            raise
-        except BaseException as error:  # a broken pack, or one calling sys.exit, is skipped
-            warnings.append(f"rule pack '{point.name}' ({point.value}) failed to load: {error!r}")
+            pack = load_pack(point)
+        except PackRefused as refusal:
+            warnings.append(str(refusal))
             continue
         for candidate in pack:
             if candidate.code in rules:
@@ -80,6 +87,79 @@ def load_registry(points: Iterable[_Point] | None = None) -> Registry:
             rules[candidate.code] = candidate
     ordered = tuple(sorted(rules.values(), key=lambda r: r.code))
     return Registry(ordered, tuple(warnings))
+
+
+def load_pack(point: _Point) -> tuple[Rule, ...]:
+    """The rules of the pack ``point`` names, each with its :class:`PackInfo`; raises
+    :class:`PackRefused` for a pack that cannot or must not run."""
+    where = _describe(point)
+    try:
+        with contextlib.redirect_stdout(sys.stderr):  # a pack that prints on import
+            loaded = point.load()
+            pack = _rules_of(loaded)
+    except KeyboardInterrupt:
+        raise
+    except BaseException as error:  # a broken pack, or one calling sys.exit, is skipped
+        raise PackRefused(f"rule pack {where} failed to load: {error!r}") from None
+    module = sys.modules.get(point.value.partition(":")[0].strip())
+    declared = getattr(module, API_DECLARATION, None)
+    if declared is not None:
+        _check_api(where, declared)
+    builtin = _builtin(point)
+    reserved = [r.code for r in pack if r.code.startswith(RESERVED_PREFIXES) and not builtin]
+    if reserved:
+        raise PackRefused(
+            f"rule pack {where} uses codes reserved for xodrlint's own rules "
+            f"({', '.join(reserved)}; reserved: {', '.join(RESERVED_PREFIXES)}...): "
+            "none of its rules run"
+        )
+    origin = PackInfo(point.name, *_distribution(point), builtin=builtin)
+    return tuple(Rule(r.meta._replace(origin=origin), r.check) for r in pack)
+
+
+def _check_api(where: str, declared: object) -> None:
+    """Refuse a pack written for a rule API this xodrlint does not offer: another major
+    (names removed or changed), or a newer minor (names this one lacks)."""
+    from xodrlint import __version__
+
+    if not (
+        isinstance(declared, tuple)
+        and len(declared) == 2
+        and all(isinstance(part, int) and not isinstance(part, bool) for part in declared)
+    ):
+        raise PackRefused(
+            f"rule pack {where} declares {API_DECLARATION} = {declared!r}, not (major, minor) "
+            f"such as {API_VERSION!r}: none of its rules run"
+        )
+    major, minor = declared
+    if major == API_VERSION[0] and minor <= API_VERSION[1]:
+        return
+    remedy = (
+        "upgrade xodrlint"
+        if (major, minor) > API_VERSION
+        else f"install a release of the pack for rule API {API_VERSION[0]}.x"
+    )
+    raise PackRefused(
+        f"rule pack {where} is written for rule API {major}.{minor}, but xodrlint "
+        f"{__version__} has rule API {API_VERSION[0]}.{API_VERSION[1]}: none of its rules "
+        f"run ({remedy})"
+    )
+
+
+def _builtin(point: _Point) -> bool:
+    return point.value.startswith(BUILTIN_MODULES)
+
+
+def _distribution(point: _Point) -> tuple[str, str]:
+    return getattr(point, "distribution", ""), getattr(point, "version", "")
+
+
+def _describe(point: _Point) -> str:
+    """``'house' (xodrlint_houserules, from xodrlint-houserules 0.1.0)``: the pack's name,
+    what its entry point names, and the distribution to upgrade or remove."""
+    distribution, version = _distribution(point)
+    installed_by = f", from {distribution} {version}".rstrip() if distribution else ""
+    return f"'{point.name}' ({point.value}{installed_by})"
 
 
 def _rules_of(loaded: object) -> tuple[Rule, ...]:

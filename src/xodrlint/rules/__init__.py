@@ -7,6 +7,10 @@ and default severity; its module docstring is its doc page. A rule that declares
 resolved (user value or default). Rules do no I/O, never read configuration themselves
 and never print. A rule pack is a package of rule modules, registered
 under the ``xodrlint.rules`` entry-point group (see :func:`collect`).
+
+``__all__`` is the rule API: every name a pack may import, from here, and rely on while
+:data:`API_VERSION`'s major number stays the same (docs/plugins.md; a test keeps the
+list). The model types are re-exported so that a pack imports from one place.
 """
 
 from __future__ import annotations
@@ -21,9 +25,69 @@ from types import ModuleType
 from typing import Final, NamedTuple
 
 from xodrlint.findings import OPTION_KINDS, Hit, RuleMeta, RuleOption, Severity
-from xodrlint.model import RailNetwork
+from xodrlint.model import (
+    NON_TRAFFIC_LANE_TYPES,
+    RAIL_LANE_TYPES,
+    Cubic,
+    Lane,
+    LaneSection,
+    PartnerRef,
+    Platform,
+    RailNetwork,
+    Road,
+    RoadLanes,
+    RoadLink,
+    Segment,
+    Station,
+    Switch,
+    TrackRef,
+    integer,
+    non_finite,
+    number,
+    numbers,
+)
 
-__all__ = ["Hit", "RailNetwork", "Rule", "RuleOption", "Settings", "Severity", "collect", "rule"]
+__all__ = [
+    "API_VERSION",
+    "NON_TRAFFIC_LANE_TYPES",
+    "RAIL_LANE_TYPES",
+    "RESERVED_PREFIXES",
+    "Cubic",
+    "Hit",
+    "Lane",
+    "LaneSection",
+    "PartnerRef",
+    "Platform",
+    "RailNetwork",
+    "Road",
+    "RoadLanes",
+    "RoadLink",
+    "Rule",
+    "RuleOption",
+    "Segment",
+    "Settings",
+    "Severity",
+    "Station",
+    "Switch",
+    "TrackRef",
+    "collect",
+    "integer",
+    "non_finite",
+    "number",
+    "numbers",
+    "rule",
+]
+
+#: The rule API's version, ``(major, minor)``: the minor grows when names or fields are
+#: added, the major when one is removed, renamed or changes meaning. A pack states the
+#: version it was written for as ``XODRLINT_RULE_API`` in the module its entry point
+#: names; a pack of another major, or of a newer minor, is not loaded.
+API_VERSION: Final = (1, 0)
+
+#: Code prefixes of the built-in rule families, and ``X`` for the linter's own (XS, XL,
+#: and families to come). A third-party pack whose codes start with one of them is not
+#: loaded: ``--select SW`` must keep meaning the switch rules.
+RESERVED_PREFIXES: Final = ("PT", "RL", "ST", "SW", "TR", "X")
 
 Settings = Mapping[str, float | str]
 """Option values by option name (read them with :meth:`RuleOption.number` and

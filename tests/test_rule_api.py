@@ -1,0 +1,137 @@
+"""The rule API is a promise to pack authors: every name in ``xodrlint.rules.__all__``, and
+every field, property and method of the types it exports, stays while ``API_VERSION``'s
+major number does.
+
+The surface below is the record of rule API 1.0. Removing or renaming anything in it
+breaks packs: raise the major number (and say so in the changelog). Adding something is
+compatible: record it here and raise the minor number, so that a pack using it can
+declare the version it needs.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import enum
+import inspect
+
+import pytest
+
+import xodrlint.rules
+from xodrlint.rules import API_VERSION
+
+RECORDED_VERSION = (1, 0)
+#: Each name with what a pack may use of it: a type's attributes, a function's
+#: parameters, ``None`` for a constant or an alias.
+RECORDED: dict[str, list[str] | None] = {
+    "API_VERSION": None,
+    "NON_TRAFFIC_LANE_TYPES": None,
+    "RAIL_LANE_TYPES": None,
+    "RESERVED_PREFIXES": None,
+    "Cubic": ["a", "at", "b", "c", "d", "element", "start"],
+    "Hit": ["column", "defers_to", "element", "kind", "line", "message", "related"],
+    "Lane": ["element", "id", "is_rail", "side", "type", "widths", "widths_complete"],
+    "LaneSection": ["element", "lanes", "rail_lanes", "s"],
+    "PartnerRef": ["element", "id", "name"],
+    "Platform": ["element", "id", "name", "segments"],
+    "RailNetwork": [
+        "derived", "platforms", "problems", "rail_roads", "road_by_id", "roads", "segments",
+        "shared", "stations", "switch_by_id", "switches", "switches_by_main_track",
+        "switches_by_side_track",
+    ],
+    "Road": [
+        "element", "has_rail_lane", "id", "lane_offsets", "lane_offsets_complete",
+        "lane_sections", "lane_template", "lane_types", "lanes", "length", "links",
+        "section_ranges",
+    ],
+    "RoadLanes": ["offsets", "offsets_complete", "sections"],
+    "RoadLink": ["contact_point", "element", "element_id", "element_type", "kind"],
+    "Rule": ["check", "code", "meta"],
+    "RuleOption": [
+        "as_dict", "checked", "default", "description", "is_number", "kind", "minimum", "name",
+        "number", "parsed", "text", "unit",
+    ],
+    "Segment": ["element", "road_id", "s_end", "s_start", "side"],
+    "Settings": None,
+    "Severity": ["ERROR", "INFO", "WARNING", "rank"],
+    "Station": ["element", "id", "name", "platforms", "type"],
+    "Switch": ["element", "id", "main_track", "name", "partner", "position", "road", "side_track"],
+    "TrackRef": ["dir", "element", "road_id", "s"],
+    "collect": ["package"],
+    "integer": ["element", "attribute"],
+    "non_finite": ["element", "attribute"],
+    "number": ["element", "attribute"],
+    "numbers": ["element", "attributes"],
+    "rule": ["code", "name", "uid", "severity", "aliases", "options", "defers_to", "opt_in"],
+}  # fmt: skip
+
+
+def _surface(value: object) -> list[str] | None:
+    """What a pack may use of ``value``: the public attributes a type defines (not those
+    of ``tuple``, ``str`` or ``object``), a function's parameters in order."""
+    if isinstance(value, type):
+        names = {
+            name
+            for klass in value.__mro__
+            if klass.__module__.startswith("xodrlint.")
+            for name in vars(klass)
+        }
+        if dataclasses.is_dataclass(value):
+            names |= {field.name for field in dataclasses.fields(value)}
+        if issubclass(value, enum.Enum):
+            names |= {member.name for member in value}
+        return sorted(name for name in names if not name.startswith("_"))
+    if inspect.isfunction(value):
+        return list(inspect.signature(value).parameters)
+    return None
+
+
+def test_the_recorded_version_is_the_current_one() -> None:
+    assert API_VERSION == RECORDED_VERSION, (
+        "API_VERSION changed: record the surface of the new version in this test"
+    )
+
+
+@pytest.mark.parametrize("name", sorted(RECORDED))
+def test_no_recorded_name_is_removed_or_renamed(name: str) -> None:
+    assert name in xodrlint.rules.__all__, (
+        f"xodrlint.rules.{name} is part of rule API {RECORDED_VERSION}: removing or renaming "
+        "it breaks packs (raise API_VERSION's major number if that is meant)"
+    )
+    current = _surface(getattr(xodrlint.rules, name))
+    recorded = RECORDED[name]
+    if recorded is not None:
+        assert current is not None
+        missing = [attribute for attribute in recorded if attribute not in current]
+        assert not missing, (
+            f"{name} lost {missing}, part of rule API {RECORDED_VERSION}: that breaks packs "
+            "(raise API_VERSION's major number if that is meant)"
+        )
+        if inspect.isfunction(getattr(xodrlint.rules, name)):
+            assert current[: len(recorded)] == recorded, f"{name}'s parameters moved"
+
+
+def test_every_name_of_the_rule_api_is_recorded() -> None:
+    current = {name: _surface(getattr(xodrlint.rules, name)) for name in xodrlint.rules.__all__}
+    added = {
+        name: value
+        for name, value in current.items()
+        if name not in RECORDED or value != RECORDED[name]
+    }
+    assert not added, (
+        f"the rule API grew: {added}; record it here and raise API_VERSION's minor number, "
+        "so that packs using it can say they need it"
+    )
+
+
+def test_every_name_is_importable_from_one_place() -> None:
+    namespace: dict[str, object] = {}
+    exec("from xodrlint.rules import *", namespace)
+    assert set(xodrlint.rules.__all__) <= set(namespace)
+
+
+def test_the_model_types_are_the_model_s_own() -> None:
+    import xodrlint.model
+
+    for name in xodrlint.rules.__all__:
+        if name in xodrlint.model.__all__:
+            assert getattr(xodrlint.rules, name) is getattr(xodrlint.model, name)
