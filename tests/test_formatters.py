@@ -29,6 +29,7 @@ from xodrlint.findings import (
     FileReport,
     Finding,
     Location,
+    PackInfo,
     RuleMeta,
     RunResult,
     Severity,
@@ -232,12 +233,20 @@ def test_sarif_driver_describes_every_rule() -> None:
 
 def test_sarif_levels_of_rules_with_each_severity() -> None:
     meta = next(m for m in default_registry().metas if m.code == "SW006")
-    info = meta._replace(severity=Severity.INFO, pack="someone.plugin")
+    origin = PackInfo("house", "acme-rules", "2.3")
+    info = meta._replace(severity=Severity.INFO, pack="acme_rules.switches", origin=origin)
     descriptor = rule_descriptor(info)
     assert descriptor["defaultConfiguration"] == {"level": "note"}
     assert descriptor["properties"]["problem.severity"] == "recommendation"
-    assert descriptor["properties"]["tags"] == ["opendrive", "plugin"]
+    assert descriptor["properties"]["tags"] == ["opendrive", "house"]
+    # a pack's rule says which pack it came from, to update or to report to
+    assert descriptor["properties"]["pack"] == "house"
+    assert descriptor["properties"]["packDistribution"] == "acme-rules"
+    assert descriptor["properties"]["packVersion"] == "2.3"
     assert "helpUri" not in descriptor  # only xodrlint's own rules have a doc page
+    assert "pack" not in rule_descriptor(meta)["properties"]  # xodrlint's own: no pack
+    loose = rule_descriptor(meta._replace(pack="someone.plugin", origin=None))
+    assert loose["properties"]["tags"] == ["opendrive", "plugin"]  # no entry point: module
     bare = RuleMeta("ZZ001", "bare", "x:y", Severity.WARNING, "a `thing` is off", "ZZ001 bare")
     descriptor = rule_descriptor(bare)
     assert descriptor["fullDescription"]["text"] == "a thing is off"

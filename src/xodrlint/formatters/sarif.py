@@ -200,7 +200,8 @@ def rule_descriptor(meta: RuleMeta) -> JsonObject:
     if meta.pack == BUILTIN_PACK_PREFIX or meta.pack.startswith(BUILTIN_PACK_PREFIX + "."):
         descriptor["helpUri"] = HELP_URI.format(code=meta.code)
     descriptor["defaultConfiguration"] = {"level": LEVEL[meta.severity]}
-    family = meta.pack.rpartition(".")[2]
+    origin = meta.origin
+    family = origin.name if origin else meta.pack.rpartition(".")[2]
     descriptor["properties"] = {
         "uid": meta.uid,
         "aliases": list(meta.aliases),
@@ -208,6 +209,11 @@ def rule_descriptor(meta: RuleMeta) -> JsonObject:
         "precision": "very-high",
         "problem.severity": PROBLEM_SEVERITY[meta.severity],
     }
+    if origin is not None and not origin.builtin:  # which pack to update or report to
+        descriptor["properties"]["pack"] = origin.name
+        if origin.distribution:
+            descriptor["properties"]["packDistribution"] = origin.distribution
+            descriptor["properties"]["packVersion"] = origin.version
     return descriptor
 
 
