@@ -9,6 +9,11 @@ from typing import Any
 
 import pytest
 
+#: Testing the rule packs (tests/test_rule_cases.py, tests/test_docs.py): what the
+#: pytest11 entry point loads once xodrlint is installed; named here for a checkout whose
+#: environment predates it (pytest skips a plugin that is loaded already).
+pytest_plugins = ["xodrlint.testing.plugin"]
+
 REPO = Path(__file__).resolve().parents[1]
 SHARED = REPO.parent / "shared"
 SHARED_SCHEMAS = SHARED / "schemas"

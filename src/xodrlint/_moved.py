@@ -47,7 +47,7 @@ def moved_name(old_module: str, name: str, targets: Sequence[str], warned: set[s
             if name not in warned:
                 warned.add(name)
                 warnings.warn(
-                    f"{old_module}.{name} moved to {_home(value, target)}.{name}; "
+                    f"{old_module}.{name} moved to {_home(value, name, target)}.{name}; "
                     f"the old path goes in xodrlint {REMOVED_IN}",
                     DeprecationWarning,
                     stacklevel=3,
@@ -56,12 +56,15 @@ def moved_name(old_module: str, name: str, targets: Sequence[str], warned: set[s
     raise AttributeError(f"module {old_module!r} has no attribute {name!r}")
 
 
-def _home(value: object, found_in: str) -> str:
-    """Where ``value`` is defined (or publicly re-exported), else where it was found:
-    constants carry no module of their own."""
+def _home(value: object, name: str, found_in: str) -> str:
+    """Where ``value`` is defined (or publicly re-exported) under ``name``, else where it
+    was found: constants carry no module of their own, and an alias kept for an old name
+    (``Case`` for ``RuleCase``) lives only where it was found."""
     defined = getattr(value, "__module__", None)
     if isinstance(defined, str) and defined.startswith("xodrlint."):
-        return _PUBLIC_HOME.get(defined, defined)
+        home = _PUBLIC_HOME.get(defined, defined)
+        if getattr(importlib.import_module(home), name, _ABSENT) is value:
+            return home
     return found_in
 
 

@@ -23,8 +23,8 @@ ENTRY_POINT_GROUP: Final = "xodrlint.rules"
 #: What a pack names, in the module its entry point names, to state the rule API it was
 #: written for: ``XODRLINT_RULE_API = (1, 0)``.
 API_DECLARATION: Final = "XODRLINT_RULE_API"
-#: The built-in packs' modules: only they may use the reserved code prefixes.
-BUILTIN_MODULES: Final = "xodrlint.rules."
+#: The package of the built-in packs: only they may use the reserved code prefixes.
+BUILTIN_PACKAGE: Final = "xodrlint.rules"
 
 
 class _Point(Protocol):
@@ -120,8 +120,6 @@ def load_pack(point: _Point) -> tuple[Rule, ...]:
 def _check_api(where: str, declared: object) -> None:
     """Refuse a pack written for a rule API this xodrlint does not offer: another major
     (names removed or changed), or a newer minor (names this one lacks)."""
-    from xodrlint import __version__
-
     if not (
         isinstance(declared, tuple)
         and len(declared) == 2
@@ -140,14 +138,14 @@ def _check_api(where: str, declared: object) -> None:
         else f"install a release of the pack for rule API {API_VERSION[0]}.x"
     )
     raise PackRefused(
-        f"rule pack {where} is written for rule API {major}.{minor}, but xodrlint "
-        f"{__version__} has rule API {API_VERSION[0]}.{API_VERSION[1]}: none of its rules "
-        f"run ({remedy})"
+        f"rule pack {where} is written for rule API {major}.{minor}, but this xodrlint "
+        f"has rule API {API_VERSION[0]}.{API_VERSION[1]}: none of its rules run ({remedy})"
     )
 
 
 def _builtin(point: _Point) -> bool:
-    return point.value.startswith(BUILTIN_MODULES)
+    module = point.value.partition(":")[0].strip()
+    return module == BUILTIN_PACKAGE or module.startswith(BUILTIN_PACKAGE + ".")
 
 
 def _distribution(point: _Point) -> tuple[str, str]:

@@ -1,103 +1,43 @@
-"""The rule catalogue by example: read ``rules/<CODE>/`` cases and write ``docs/rules/``.
+"""The developers' documentation command: ``docs/rules/`` and ``docs/output-formats.md``.
 
-A case is a complete small OpenDRIVE file. A line that must be reported carries
-``<!-- expect: CODE -->`` at its end (several codes separated by commas), or the comment
-stands alone on the line before. ``valid_*`` files expect nothing. Each doc page is the
-rule's docstring followed by its cases, so the examples in the docs are the tested ones.
+Each rule's doc page is its docstring followed by its tested cases (see
+:mod:`xodrlint.testing`), so the examples in the docs are the tested ones; the formats
+page is each format's real output for one small map.
 
-Run ``python -m xodrlint.cli.docgen`` from the repository root to regenerate ``docs/rules``.
+Run ``python -m xodrlint.cli.docgen`` from the repository root to regenerate both; a rule
+pack runs ``python -m xodrlint.cli.docgen --pack MODULE`` from its own root to write its
+``docs/rules/`` the same way.
 """
 
 from __future__ import annotations
 
-import re
 import sys
 from collections.abc import Iterable
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Final
 
 from xodrlint.findings import RuleMeta, RunResult
+from xodrlint.testing.cases import RuleCase, cases_in, read_case
+from xodrlint.testing.pack import PackError, RulePack
+from xodrlint.testing.pages import render_page
 
-_EXPECT: Final = re.compile(r"<!--\s*expect:\s*(?P<codes>[A-Z0-9,\s]+?)\s*-->")
-
-
-@dataclass(frozen=True, slots=True)
-class Case:
-    path: Path
-    code: str
-    expected: tuple[tuple[int, str], ...]
-    """(line, code) pairs, sorted."""
-
-    @property
-    def is_valid(self) -> bool:
-        return self.path.name.startswith("valid_")
-
-
-def read_case(path: Path) -> Case:
-    expected: list[tuple[int, str]] = []
-    lines = path.read_bytes().decode("utf-8", errors="replace").splitlines()
-    for number, text in enumerate(lines, start=1):
-        for match in _EXPECT.finditer(text):
-            alone = text[: match.start()].strip() == ""
-            line = number + 1 if alone else number
-            codes = [c.strip() for c in match["codes"].split(",") if c.strip()]
-            expected.extend((line, code) for code in codes)
-    return Case(path, path.parent.name, tuple(sorted(expected)))
-
-
-def cases_of(folder: Path) -> list[Case]:
-    return [read_case(p) for p in sorted(folder.glob("*.xodr"))]
-
-
-def render_page(meta: RuleMeta, cases: Iterable[Case], root: Path) -> str:
-    """The Markdown doc page of a rule: its docstring, then each tested case in full."""
-    head = meta.doc.split("\n", 1)
-    lines = [
-        f"# {meta.code} {meta.name}",
-        "",
-        f"{meta.summary[:1].upper()}{meta.summary[1:]}.",
-        "",
-        f"- Severity: `{meta.severity}`",
-        f"- UID: `{meta.uid}`",
-        *[f"- Alias: `{alias}`" for alias in meta.aliases],
-        *(
-            [f"- Off by default: turn it on with `--extend-select {meta.code}`"]
-            if meta.opt_in
-            else []
-        ),
-        "",
-        head[1].strip() if len(head) > 1 else "",
-        "",
-        "## Tested cases",
-        "",
-        "These files live in the repository under `rules/"
-        + meta.code
-        + "/` and run in the test suite; each `expect` comment marks a line that must be "
-        "reported.",
-        "",
-    ]
-    for case in cases:
-        relative = case.path.relative_to(root).as_posix()
-        verdict = (
-            "no finding"
-            if not case.expected
-            else ", ".join(f"{code} at line {line}" for line, code in case.expected)
-        )
-        lines += [f"### `{relative}`", "", f"Expected: {verdict}.", "", "```xml"]
-        lines += [case.path.read_text(encoding="utf-8", errors="replace").rstrip("\n"), "```", ""]
-    return "\n".join(lines).rstrip("\n") + "\n"
+#: The packages of xodrlint's own rules, as a pack under test.
+BUILTIN_PACK: Final = "xodrlint.rules"
+#: The 0.1 names of what :mod:`xodrlint.testing` holds now, for the old module path
+#: ``xodrlint.docgen`` (served until 0.2, see ``MOVED_MODULES``).
+Case = RuleCase
+cases_of = cases_in
+__all__ = ["Case", "cases_of", "formats_page", "generate", "main", "read_case", "render_page"]
 
 
 def generate(root: Path, metas: Iterable[RuleMeta]) -> dict[Path, str]:
-    """Doc pages by path, for every rule that has a case folder."""
-    pages = {}
-    for meta in metas:
-        folder = root / "rules" / meta.code
-        pages[root / "docs" / "rules" / f"{meta.code}.md"] = render_page(
-            meta, cases_of(folder), root
+    """Doc pages by path under ``root / "docs" / "rules"``, for each of ``metas``."""
+    return {
+        root / "docs" / "rules" / f"{meta.code}.md": render_page(
+            meta, cases_in(root / "rules" / meta.code), root
         )
-    return pages
+        for meta in metas
+    }
 
 
 FORMATS_EXAMPLE: Final = "examples/two-findings.xodr"
@@ -244,19 +184,30 @@ def _xqar_excerpt(text: str) -> str:
     return re.sub(r'build_date="[^"]*"', 'build_date="YYYY-MM-DD"', shown)
 
 
-def main() -> int:
-    from xodrlint.registry import load_registry
-
+def main(argv: list[str] | None = None) -> int:
+    """Write the pages of xodrlint's own rules and the formats page, or with ``--pack
+    MODULE`` (repeatable) the pages of that pack, in the current folder."""
+    args = sys.argv[1:] if argv is None else argv
+    packs = [args[i + 1] for i, arg in enumerate(args[:-1]) if arg == "--pack"]
+    if len(packs) * 2 != len(args):
+        print("usage: python -m xodrlint.cli.docgen [--pack MODULE]...", file=sys.stderr)
+        return 2
     root = Path.cwd()
     if not (root / "rules").is_dir():
-        print("run from the repository root (no rules/ folder here)", file=sys.stderr)
+        print(
+            "run from the root of the repository or pack (no rules/ folder here)", file=sys.stderr
+        )
         return 2
-    formats = root / "docs" / "output-formats.md"
-    formats.write_text(formats_page(root), encoding="utf-8")
-    print(f"wrote {formats.relative_to(root)}")
-    for path, text in generate(root, load_registry().metas).items():
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(text, encoding="utf-8")
+    if not packs:
+        formats = root / "docs" / "output-formats.md"
+        formats.write_text(formats_page(root), encoding="utf-8")
+        print(f"wrote {formats.relative_to(root)}")
+    try:
+        written = RulePack(packs or [BUILTIN_PACK], root).write_pages()
+    except PackError as error:
+        print(f"xodrlint.cli.docgen: {error}", file=sys.stderr)
+        return 2
+    for path in written:
         print(f"wrote {path.relative_to(root)}")
     return 0
 

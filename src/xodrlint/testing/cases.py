@@ -1,0 +1,99 @@
+"""A rule's cases: complete small OpenDRIVE files under ``rules/<CODE>/``, named
+``valid_*`` (nothing to report) or ``invalid_*``, each line that must be reported marked.
+
+A line that must be reported carries ``<!-- expect: CODE -->`` at its end (several codes
+separated by commas), or the comment stands alone on the line before. A case runs with
+only its folder's rule selected and its options at their defaults, unless a
+``rule.toml`` in the folder says otherwise: ``select = ["SW", "PT"]`` for folders that pin
+down how several rules share a defect, ``[options]`` for cases of other option values
+(``platform-min-length = 60``).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Final
+
+EXPECT: Final = re.compile(r"<!--\s*expect:\s*(?P<codes>[A-Z0-9,\s]+?)\s*-->")
+#: A folder's rules other than its name's (``select = [...]``) and its option values
+#: (``[options]``).
+SELECTION_FILE: Final = "rule.toml"
+CASE_SUFFIX: Final = ".xodr"
+
+
+@dataclass(frozen=True, slots=True)
+class RuleCase:
+    """One case file and what it expects."""
+
+    path: Path
+    code: str
+    """The folder's name: the rule's code (or, with a ``rule.toml``, a name of its own)."""
+    expected: tuple[tuple[int, str], ...]
+    """(line, code) pairs, sorted."""
+    select: tuple[str, ...]
+    """The rules the case runs with."""
+    options: Mapping[str, float | str] = field(default_factory=dict)
+    """Rule options by name; the others keep their defaults."""
+
+    @property
+    def is_valid(self) -> bool:
+        return self.path.name.startswith("valid_")
+
+    @property
+    def id(self) -> str:
+        """``SW001/invalid_x.xodr``: how a test names the case."""
+        return f"{self.code}/{self.path.name}"
+
+
+def read_case(path: Path) -> RuleCase:
+    """The case in ``path``; its selection from the folder's ``rule.toml`` if any."""
+    expected: list[tuple[int, str]] = []
+    lines = path.read_bytes().decode("utf-8", errors="replace").splitlines()
+    for number, text in enumerate(lines, start=1):
+        for match in EXPECT.finditer(text):
+            alone = text[: match.start()].strip() == ""
+            line = number + 1 if alone else number
+            codes = [c.strip() for c in match["codes"].split(",") if c.strip()]
+            expected.extend((line, code) for code in codes)
+    select, options = folder_settings(path.parent)
+    return RuleCase(path, path.parent.name, tuple(sorted(expected)), select, options)
+
+
+def folder_settings(folder: Path) -> tuple[tuple[str, ...], dict[str, float | str]]:
+    """The selectors a folder's cases run with (its ``rule.toml``'s, or its name) and the
+    option values they set."""
+    settings = folder / SELECTION_FILE
+    if not settings.is_file():
+        return (folder.name,), {}
+    import tomllib
+
+    table: dict[str, Any] = tomllib.loads(settings.read_text(encoding="utf-8"))
+    select = table.pop("select", [folder.name])
+    options = table.pop("options", {})
+    if not isinstance(select, list) or not select or not all(isinstance(s, str) for s in select):
+        raise ValueError(f"{settings}: 'select' must be a non-empty list of rule selectors")
+    if not isinstance(options, dict) or not all(
+        isinstance(v, int | float | str) and not isinstance(v, bool) for v in options.values()
+    ):
+        raise ValueError(f"{settings}: [options] must give numbers or strings by option name")
+    if table:
+        raise ValueError(f"{settings}: unknown key '{next(iter(table))}' (known: select, options)")
+    return tuple(select), dict(options)
+
+
+def folder_selection(folder: Path) -> tuple[str, ...]:
+    """The selectors a folder's cases run with."""
+    return folder_settings(folder)[0]
+
+
+def cases_in(folder: Path) -> list[RuleCase]:
+    """The cases of one folder, by name."""
+    return [read_case(path) for path in sorted(folder.glob(f"*{CASE_SUFFIX}"))]
+
+
+def find_cases(root: Path) -> list[RuleCase]:
+    """Every case below ``root`` (``rules/``), folder by folder."""
+    return [read_case(path) for path in sorted(root.rglob(f"*{CASE_SUFFIX}"))]

@@ -1,0 +1,197 @@
+"""A rule pack under test: its rules, loaded as xodrlint loads an installed pack, its
+cases, its doc pages, and what is wrong with each.
+
+Each check returns its problems as lines (empty: all is well), so that any test runner
+can report them; :mod:`xodrlint.testing.plugin` turns them into pytest items.
+"""
+
+from __future__ import annotations
+
+import re
+from collections import Counter
+from collections.abc import Sequence
+from functools import cached_property
+from pathlib import Path
+from typing import TYPE_CHECKING, Final
+
+from xodrlint.findings import RuleMeta
+from xodrlint.testing.cases import CASE_SUFFIX, SELECTION_FILE, RuleCase, cases_in, find_cases
+from xodrlint.testing.docstrings import docstring_problems
+from xodrlint.testing.pages import render_page
+
+if TYPE_CHECKING:
+    from xodrlint.findings import FileReport
+    from xodrlint.registry import Registry
+    from xodrlint.rules import Rule
+
+#: A folder named like a rule code holds that rule's cases.
+_CODE_FOLDER: Final = re.compile(r"^[A-Z]{2,4}\d{3}$")
+
+
+class PackError(ValueError):
+    """A pack that cannot be tested: it fails to load, or xodrlint would refuse it."""
+
+
+class RulePack:
+    """The pack whose rules the entry-point targets ``targets`` name (``my_pack`` or
+    ``my_pack.rules:RULES``), with its cases in ``root / cases`` and its doc pages in
+    ``root / docs``."""
+
+    def __init__(
+        self,
+        targets: Sequence[str],
+        root: Path,
+        *,
+        cases: str = "rules",
+        docs: str = "docs/rules",
+    ) -> None:
+        if not targets:
+            raise PackError("no rule pack named: give the module(s) its entry point names")
+        self.targets = tuple(targets)
+        self.root = root
+        self.cases_root = root / cases
+        self.docs_root = root / docs
+
+    @cached_property
+    def rules(self) -> tuple[Rule, ...]:
+        """The pack's rules, loaded and checked as an installed pack is (a rule API it
+        was not written for, a reserved code prefix: :class:`PackError`)."""
+        from xodrlint.plugins import Plugin
+        from xodrlint.registry import ENTRY_POINT_GROUP, PackRefused, load_pack
+
+        rules: dict[str, Rule] = {}
+        for target in self.targets:
+            name = target.partition(":")[0]
+            try:
+                rules.update(
+                    (r.code, r) for r in load_pack(Plugin(name, target, ENTRY_POINT_GROUP))
+                )
+            except PackRefused as refused:
+                raise PackError(str(refused)) from None
+        return tuple(sorted(rules.values(), key=lambda r: r.code))
+
+    @property
+    def metas(self) -> tuple[RuleMeta, ...]:
+        return tuple(r.meta for r in self.rules)
+
+    @cached_property
+    def registry(self) -> Registry:
+        """Every installed rule, with the pack's own from the tree under test over an
+        installed release of it: a case may select other packs' rules too."""
+        from xodrlint.registry import Registry, load_registry
+
+        by_code = {r.code: r for r in load_registry().rules}
+        by_code.update((r.code, r) for r in self.rules)
+        return Registry(tuple(sorted(by_code.values(), key=lambda r: r.code)))
+
+    @cached_property
+    def cases(self) -> list[RuleCase]:
+        return find_cases(self.cases_root) if self.cases_root.is_dir() else []
+
+    def lint(self, case: RuleCase) -> FileReport:
+        """The case linted with its selection, as ``xodrlint check --select`` would."""
+        from xodrlint.engine import Linter, LintOptions
+
+        options = LintOptions(select=case.select, rule_options=case.options)
+        return Linter(self.registry, options).lint_path(case.path)
+
+    def case_problems(self, case: RuleCase) -> list[str]:
+        """How the findings of ``case`` differ from its ``expect`` marks, line and code."""
+        if not case.path.name.startswith(("valid_", "invalid_")):
+            return [f"{case.id}: a case is named valid_* or invalid_*"]
+        from xodrlint.engine import OptionError, SelectorError
+
+        try:
+            report = self.lint(case)
+        except (OptionError, SelectorError) as error:  # the folder's rule.toml
+            return [f"{case.id}: {case.path.parent / SELECTION_FILE}: {error}"]
+        if report.error:
+            return [f"{case.id}: {report.error}"]
+        problems = [f"{case.id}: internal error: {error}" for error in report.internal_errors]
+        expected = Counter(case.expected)
+        found = Counter((f.line, f.code) for f in report.findings)
+        for line, code in sorted((expected - found).elements()):
+            problems.append(f"{case.id}: {code} expected at line {line}, not reported")
+        extra = found - expected
+        for finding in report.findings:  # each unexpected one with its message
+            key = (finding.line, finding.code)
+            if extra[key] > 0:
+                extra[key] -= 1
+                problems.append(
+                    f"{case.id}: {finding.code} at line {finding.line} not expected: "
+                    f"{finding.message}"
+                )
+        if case.is_valid and case.expected:
+            problems.append(f"{case.id}: a valid_ case expects nothing; name it invalid_*")
+        if not case.is_valid and not case.expected:
+            problems.append(f"{case.id}: expects no finding; name it valid_*")
+        return problems
+
+    def docstring_problems(self, meta: RuleMeta) -> list[str]:
+        """What the rule's doc page (its module docstring) lacks."""
+        folder = self.cases_root / meta.code
+        texts = {p.name: p.read_text(encoding="utf-8") for p in folder.glob(f"*{CASE_SUFFIX}")}
+        invalid = [text for name, text in texts.items() if name.startswith("invalid_")]
+        valid = [text for name, text in texts.items() if name.startswith("valid_")]
+        return docstring_problems(meta, invalid, valid)
+
+    def coverage_problems(self) -> list[str]:
+        """Rules without a valid_ and an invalid_ case, and case folders without a rule."""
+        problems = []
+        for meta in self.metas:
+            names = [p.name for p in (self.cases_root / meta.code).glob(f"*{CASE_SUFFIX}")]
+            for kind in ("valid_", "invalid_"):
+                if not any(name.startswith(kind) for name in names):
+                    problems.append(
+                        f"{meta.code} has no {kind}* case in {self.cases_root / meta.code}"
+                    )
+        codes = {meta.code for meta in self.metas}
+        for folder in sorted({case.path.parent for case in self.cases}):
+            if (folder / SELECTION_FILE).is_file():
+                continue
+            if not _CODE_FOLDER.match(folder.name):
+                problems.append(f"{folder} is named for no rule and has no {SELECTION_FILE}")
+            elif folder.name not in codes:
+                problems.append(
+                    f"{folder} holds cases of {folder.name}, which is no rule of this pack"
+                )
+        return problems
+
+    def pages(self) -> dict[Path, str]:
+        """Each rule's doc page by the path it belongs at."""
+        return {
+            self.docs_root / f"{meta.code}.md": render_page(
+                meta, cases_in(self.cases_root / meta.code), self.root
+            )
+            for meta in self.metas
+        }
+
+    def page_problems(self) -> list[str]:
+        """Pages missing, out of date, or of no rule of the pack."""
+        pages = self.pages()
+        problems = [
+            f"{path.relative_to(self.root)} is {'out of date' if path.is_file() else 'missing'}"
+            for path, text in pages.items()
+            if not path.is_file() or path.read_text(encoding="utf-8") != text
+        ]
+        extra = sorted(set(self.docs_root.glob("*.md")) - set(pages))
+        problems += [f"{path.relative_to(self.root)} is the page of no rule" for path in extra]
+        if problems:
+            problems.append(f"write them: {write_command(self)}")
+        return problems
+
+    def write_pages(self) -> list[Path]:
+        """Write every page that differs; the paths written."""
+        written = []
+        for path, text in self.pages().items():
+            if not path.is_file() or path.read_text(encoding="utf-8") != text:
+                path.parent.mkdir(parents=True, exist_ok=True)
+                path.write_text(text, encoding="utf-8")
+                written.append(path)
+        return written
+
+
+def write_command(pack: RulePack) -> str:
+    """The command that writes ``pack``'s pages, to be run in its root."""
+    targets = " ".join(f"--pack {target}" for target in pack.targets)
+    return f"python -m xodrlint.cli.docgen {targets}"
