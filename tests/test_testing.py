@@ -301,7 +301,7 @@ def test_the_plugin_is_idle_in_a_project_that_does_not_use_it(tmp_path: Path) ->
     (tmp_path / "test_other.py").write_text("def test_other() -> None:\n    assert True\n")
     done = _pytest(tmp_path, [])
     assert done.returncode == 0, done.stdout
-    assert "xodrlint" not in done.stdout and "1 passed" in done.stdout
+    assert "xodrlint:" not in done.stdout and "1 passed" in done.stdout
 
 
 def test_the_plugin_says_when_no_pack_is_configured(tmp_path: Path) -> None:
