@@ -48,3 +48,42 @@ def test_output_formats_page_is_generated() -> None:
     assert page.read_text("utf-8") == formats_page(REPO), (
         "docs/output-formats.md is stale: run python -m xodrlint.cli.docgen"
     )
+
+
+def test_plugins_page_reference_is_generated() -> None:
+    from xodrlint.cli.apidoc import PAGE, replace_section
+
+    page = (REPO / PAGE).read_text("utf-8")
+    assert page == replace_section(page), (
+        "docs/plugins.md's rule API reference is stale: run python -m xodrlint.cli.docgen"
+    )
+
+
+def test_plugins_page_explains_every_argument_of_the_rule_decorator() -> None:
+    import inspect
+
+    from xodrlint.rules import rule
+
+    guide = (REPO / "docs" / "plugins.md").read_text("utf-8").split("## The rule decorator")[1]
+    decorator = guide.split("\n## ", 1)[0]
+    for parameter in inspect.signature(rule).parameters:
+        assert f"- `{parameter}`:" in decorator, f"docs/plugins.md does not explain `{parameter}`"
+
+
+def test_the_generated_reference_names_every_field_of_the_model() -> None:
+    import dataclasses
+
+    import xodrlint.model
+    from xodrlint.cli.apidoc import reference
+
+    text = reference()
+    for name in ("RailNetwork", "Switch", "Segment", "Lane"):
+        kind = getattr(xodrlint.model, name)
+        fields = (
+            [f.name for f in dataclasses.fields(kind)]
+            if dataclasses.is_dataclass(kind)
+            else list(kind._fields)
+        )
+        section = text.split(f"#### `{name}`")[1].split("#### ")[0]
+        for field in fields:
+            assert f"| `{field}` |" in section, (name, field)

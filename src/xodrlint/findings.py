@@ -37,24 +37,29 @@ _RANK = {Severity.INFO: 1, Severity.WARNING: 2, Severity.ERROR: 3}
 class Hit(NamedTuple):
     """What a rule yields: the element a defect is about and a message.
 
-    ``element`` is ``None`` only where no element exists (a file that does not parse); then
-    ``line`` carries the parser's line. Given with an element, ``line`` is where the
-    defect stands when that is not the element's start tag (an unused suppression comment
-    is about the element after it, on a line of its own). ``related`` names other
-    elements the message is about (the first of two duplicates): the engine adds their
-    lines to the message and to the finding. ``kind`` says what sort of schema error a
-    schema-stage hit is (``keyref``, ``duplicate``, ``missing_child``, ...). ``defers_to``,
-    when set, replaces the rule's :attr:`RuleMeta.defers_to` for this hit: the schema rule
-    hands a keyref error to SW004 but keeps every other error on the same element.
+    The engine makes a finding of it: the rule's code, UID and severity, the element's
+    line, column and XPath.
     """
 
     element: "etree._Element | None"
+    """What the defect is about. ``None`` only where no element exists (a file that does
+    not parse); then ``line`` carries the parser's line."""
     message: str
+    """Short, lowercase, no trailing period; ids quoted ('W1'); both sides named."""
     line: int | None = None
+    """Where the defect stands when that is not the element's start tag (an unused
+    suppression comment is about the element after it, on a line of its own)."""
     column: int | None = None
+    """The column on ``line``, where ``line`` is given."""
     related: "tuple[etree._Element, ...]" = ()
+    """Other elements the message is about (the first of two duplicates): the engine adds
+    their lines to the message and to the finding."""
     kind: str = ""
+    """What sort of schema error a schema-stage hit is (``keyref``, ``duplicate``,
+    ``missing_child``, ...); a pack's rule leaves it empty."""
     defers_to: tuple[str, ...] | None = None
+    """When set, replaces the rule's :attr:`RuleMeta.defers_to` for this hit (the schema
+    rule hands a keyref error to SW004 but keeps every other error on the element)."""
 
 
 #: Hit kinds of schema errors about a missing or misplaced child element (libxml2 words a
@@ -165,12 +170,18 @@ class RuleOption(NamedTuple):
     """
 
     name: str
+    """Kebab-case, global: the config key and ``--rule-option NAME=VALUE``'s name."""
     default: float | str
+    """The value where the user sets none: a number, or text for ``text`` and ``regex``."""
     description: str
+    """One line for ``xodrlint config`` and ``xodrlint rules -f json``."""
     unit: str = "m"
+    """A number's unit (``m``, ``degrees``)."""
     minimum: float = 0.0
     """Values below this are refused (a negative width or tolerance makes no sense)."""
     kind: str = "number"
+    """``number``, ``text`` or ``regex`` (text that must compile as a Python regular
+    expression)."""
 
     @property
     def is_number(self) -> bool:

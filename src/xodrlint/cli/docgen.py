@@ -1,8 +1,10 @@
-"""The developers' documentation command: ``docs/rules/`` and ``docs/output-formats.md``.
+"""The developers' documentation command: ``docs/rules/``, ``docs/output-formats.md`` and
+the rule API's reference in ``docs/plugins.md``.
 
 Each rule's doc page is its docstring followed by its tested cases (see
 :mod:`xodrlint.testing`), so the examples in the docs are the tested ones; the formats
-page is each format's real output for one small map.
+page is each format's real output for one small map; the reference is made from the
+code (:mod:`xodrlint.cli.apidoc`).
 
 Run ``python -m xodrlint.cli.docgen`` from the repository root to regenerate both; a rule
 pack runs ``python -m xodrlint.cli.docgen --pack MODULE`` from its own root to write its
@@ -201,9 +203,14 @@ def main(argv: list[str] | None = None) -> int:
         )
         return 2
     if not packs:
+        from xodrlint.cli.apidoc import PAGE, replace_section
+
         formats = root / "docs" / "output-formats.md"
         formats.write_text(formats_page(root), encoding="utf-8")
         print(f"wrote {formats.relative_to(root)}")
+        guide = root / PAGE
+        guide.write_text(replace_section(guide.read_text(encoding="utf-8")), encoding="utf-8")
+        print(f"wrote {guide.relative_to(root)}")
     try:
         written = RulePack(packs or [BUILTIN_PACK], root).write_pages()
     except PackError as error:

@@ -97,6 +97,7 @@ def non_finite(element: etree._Element, attribute: str) -> str | None:
 
 
 def integer(element: etree._Element, attribute: str) -> int | None:
+    """The integer in ``attribute`` (an optional sign, then ASCII digits), or ``None``."""
     raw = element.get(attribute)
     if raw is None:
         return None
@@ -124,10 +125,15 @@ class Cubic(NamedTuple):
 
 
 class Lane(NamedTuple):
+    """A ``lane`` of a lane section."""
+
     element: etree._Element
     id: int | None
-    side: str  # "left", "center" or "right"
+    """``@id``: positive on the left, 0 for the centre lane, negative on the right."""
+    side: str
+    """``left``, ``center`` or ``right``: the group the lane is written in."""
     type: str | None
+    """``@type``: ``rail``, ``tram``, ``driving``, ``sidewalk``, ..."""
     widths: tuple[Cubic, ...]
     """Width entries with ``start`` = ``sOffset`` relative to the lane section; entries
     with unreadable coefficients are left out."""
@@ -140,8 +146,11 @@ class Lane(NamedTuple):
 
 
 class LaneSection(NamedTuple):
+    """A ``laneSection``: where it starts and its lanes, in document order."""
+
     element: etree._Element
     s: float | None
+    """``@s``: where the section starts along the road."""
     lanes: tuple[Lane, ...]
 
     @property
@@ -211,10 +220,11 @@ class Road:
     def lane_template(self) -> "Road":
         """One road of the file whose ``lanes`` read as this road's do, text for text (the
         first one asked, maybe this road itself): every fact of its lanes but the
-        elements is this road's own. A railway repeats a few lane layouts over thousands
-        of tracks, so rules that judge lanes judge each layout once (and read a road's
-        own lanes only to report on them); reading every road's lanes was a third of
-        a rail-dense map's run."""
+        elements is this road's own.
+
+        A railway repeats a few lane layouts over thousands of tracks, so rules that
+        judge lanes judge each layout once (and read a road's own lanes only to report
+        on them); reading every road's lanes was a third of a rail-dense map's run."""
         template = self._template
         if template is _UNKNOWN:
             templates = self._templates
@@ -285,7 +295,8 @@ class RoadLink(NamedTuple):
     """A road's ``link/predecessor`` or ``link/successor``."""
 
     element: etree._Element
-    kind: str  # "predecessor" or "successor"
+    kind: str
+    """``predecessor`` or ``successor``."""
     element_type: str | None
     element_id: str | None
     contact_point: str | None
@@ -296,21 +307,29 @@ class TrackRef(NamedTuple):
 
     element: etree._Element
     road_id: str | None
+    """``@id``: the road the track runs on."""
     s: float | None
+    """``@s``: where on that road the switch is."""
     dir: str | None
+    """``@dir``: ``+`` or ``-``, the direction of travel along the road."""
 
 
 class PartnerRef(NamedTuple):
+    """A switch's ``partner``: the other switch of the pair, by id and name."""
+
     element: etree._Element
     id: str | None
     name: str | None
 
 
 class Switch(NamedTuple):
+    """A ``road/railroad/switch``."""
+
     element: etree._Element
     id: str | None
     name: str | None
     position: str | None
+    """``@position``: ``dynamic``, ``straight`` or ``turn``."""
     road: Road
     """The road whose ``railroad`` holds the switch."""
     main_track: TrackRef | None
@@ -319,14 +338,22 @@ class Switch(NamedTuple):
 
 
 class Segment(NamedTuple):
+    """A platform's ``segment``: the stretch of a road it lies beside."""
+
     element: etree._Element
     road_id: str | None
+    """``@roadId``."""
     s_start: float | None
+    """``@sStart``."""
     s_end: float | None
+    """``@sEnd``."""
     side: str | None
+    """``@side``: ``left`` or ``right`` of the road."""
 
 
 class Platform(NamedTuple):
+    """A station's ``platform``."""
+
     element: etree._Element
     id: str | None
     name: str | None
@@ -334,10 +361,13 @@ class Platform(NamedTuple):
 
 
 class Station(NamedTuple):
+    """A ``station`` and its platforms."""
+
     element: etree._Element
     id: str | None
     name: str | None
     type: str | None
+    """``@type``: ``small``, ``medium`` or ``large``."""
     platforms: tuple[Platform, ...]
 
 
@@ -375,9 +405,13 @@ class RailNetwork:
     """
 
     roads: tuple[Road, ...] = ()
+    """Every ``road``, in document order."""
     switches: tuple[Switch, ...] = ()
+    """Every switch of every road's ``railroad``, in document order."""
     stations: tuple[Station, ...] = ()
     problems: Mapping[str, Sequence[Hit]] = field(default_factory=dict)
+    """What loading and validating the file found, by the code of the document rule
+    (``XS001`` ... ``XS006``) that reports it."""
     derived: dict[type, object] = field(default_factory=dict, repr=False, compare=False)
     """What rules compute from the model once per file and share (the plan-view geometry
     of the roads they touch), keyed by the type of the value; see :meth:`shared`."""
@@ -397,7 +431,9 @@ class RailNetwork:
         )
 
     road_by_id: Mapping[str, Road] = field(init=False, repr=False)
+    """Roads by ``@id``, the first of each id."""
     switch_by_id: Mapping[str, Switch] = field(init=False, repr=False)
+    """Switches by ``@id``, the first of each id."""
     switches_by_side_track: Mapping[str, tuple[Switch, ...]] = field(init=False, repr=False)
     """Switches in document order, by the road their ``sideTrack`` names."""
     switches_by_main_track: Mapping[str, tuple[Switch, ...]] = field(init=False, repr=False)
@@ -419,10 +455,12 @@ class RailNetwork:
 
     @property
     def platforms(self) -> Iterable[Platform]:
+        """Every station's platforms."""
         return (platform for station in self.stations for platform in station.platforms)
 
     @property
     def segments(self) -> Iterable[Segment]:
+        """Every platform's segments."""
         return (segment for platform in self.platforms for segment in platform.segments)
 
 

@@ -100,6 +100,9 @@ NAME_PATTERN: Final = re.compile(r"^[a-z][a-z0-9]*(?:-[a-z0-9]+)*$")
 
 
 class Rule(NamedTuple):
+    """A declared rule: what reports know of it (its code, name, UID, doc page) and its
+    check. :func:`rule` makes one; calling it runs the check."""
+
     meta: RuleMeta
     check: ConfiguredCheck
 
