@@ -207,3 +207,23 @@ def test_rules_lists_a_pack_under_its_name(tmp_path: Path) -> None:
         "version": "2.3",
         "builtin": False,
     }
+
+
+def test_the_python_api_warns_once_of_a_refused_pack(
+    packs: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from xodrlint import api
+
+    registry = load_registry([*installed(ENTRY_POINT_GROUP), _pack(packs, "squatter", "SW901")])
+    monkeypatch.setattr(api, "default_registry", lambda: registry)
+    api._api_registry.cache_clear()
+    api._linter.cache_clear()
+    try:
+        with pytest.warns(RuntimeWarning, match="xodrlint: rule pack 'squatter'") as caught:
+            report = api.lint_file(CLEAN)
+            api.lint_file(CLEAN, select=("SW",))  # another linter, the same registry
+        assert len(caught) == 1
+        assert report.findings == () and report.error is None
+    finally:
+        api._api_registry.cache_clear()
+        api._linter.cache_clear()

@@ -12,6 +12,7 @@ import errno
 import glob
 import os
 import stat
+import warnings
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from functools import lru_cache
 from pathlib import Path
@@ -49,7 +50,17 @@ def _linter(
     options = LintOptions(
         select=select, ignore=ignore, schema=schema, rule_options=dict(rule_options)
     )
-    return Linter(default_registry(), options)
+    return Linter(_api_registry(), options)
+
+
+@lru_cache(maxsize=1)
+def _api_registry() -> Registry:
+    """The registry ``lint_file`` and ``lint_bytes`` lint with: a pack it refused is one
+    ``RuntimeWarning`` a process, where the command line prints its warning line."""
+    registry = default_registry()
+    for message in registry.warnings:
+        warnings.warn(f"xodrlint: {message}", RuntimeWarning, stacklevel=5)
+    return registry
 
 
 def _linter_for(
