@@ -13,9 +13,10 @@ from typer.testing import CliRunner, Result
 
 from xodrlint.api import default_registry
 from xodrlint.cli import app
-from xodrlint.engine import Linter, LintOptions, OptionError
+from xodrlint.engine import Linter, LintOptions
 from xodrlint.findings import RuleOption
 from xodrlint.registry import Registry
+from xodrlint.rule_options import OptionError
 from xodrlint.rules import Hit, RailNetwork, Settings, Severity, rule
 
 from .conftest import REPO

@@ -27,7 +27,6 @@ from xodrlint.findings import (
     Finding,
     Hit,
     Location,
-    RuleOption,
     Severity,
     Suppressed,
 )
@@ -35,6 +34,7 @@ from xodrlint.messages import one_line
 from xodrlint.model import RailNetwork, build_network
 from xodrlint.registry import Registry
 from xodrlint.rule_guard import RuleClock, RuleTimeout, checked_hit
+from xodrlint.rule_options import resolve_rule_options
 from xodrlint.rules import Rule
 from xodrlint.suppress import (
     Suppressions,
@@ -61,10 +61,6 @@ _HEADER_VERSION: Final = re.compile(
 
 class SelectorError(ValueError):
     """A ``--select``/``--ignore`` entry that names no rule."""
-
-
-class OptionError(ValueError):
-    """A rule option that no rule declares, or a value the option does not take."""
 
 
 class LintOptions(NamedTuple):
@@ -104,55 +100,6 @@ def select_rules(registry: Registry, select: Sequence[str], ignore: Sequence[str
         if selected is not None and (ignored is None or selected > ignored):
             chosen.append(candidate)
     return chosen
-
-
-def declared_options(registry: Registry) -> dict[str, RuleOption]:
-    """Every option the registry's rules declare, by name (the first rule's declaration
-    where two share a name)."""
-    declared: dict[str, RuleOption] = {}
-    for candidate in registry.rules:
-        for option in candidate.meta.options:
-            declared.setdefault(option.name, option)
-    return declared
-
-
-def resolve_rule_options(
-    registry: Registry, values: Mapping[str, float | str]
-) -> dict[str, float | str]:
-    """Every option the registry's rules declare, with ``values`` laid over the defaults."""
-    declared = declared_options(registry)
-    resolved = {name: option.default for name, option in declared.items()}
-    for name, value in values.items():
-        if name not in declared:
-            known = ", ".join(sorted(declared)) or "none"
-            raise OptionError(f"unknown rule option '{name}' (known: {known})")
-        try:
-            resolved[name] = declared[name].checked(value)
-        except TypeError as expected:
-            raise OptionError(f"rule option '{name}' must be {expected}, got {value!r}") from None
-    return resolved
-
-
-def command_line_options(
-    registry: Registry, given: Mapping[str, float | str]
-) -> dict[str, float | str]:
-    """The rule options of a command line with each one's text (``--rule-option
-    NAME=VALUE``) read as its option takes it: a number, a text, a regular expression."""
-    declared = declared_options(registry)
-    values: dict[str, float | str] = {}
-    for name, value in given.items():
-        option = declared.get(name)
-        if option is None or not isinstance(value, str):
-            values[name] = value  # an unknown name or a flag's number: resolve says
-            continue
-        try:
-            values[name] = option.parsed(value)
-        except TypeError as expected:
-            shape = "NAME=NUMBER" if option.is_number else "NAME=VALUE"
-            raise OptionError(
-                f"--rule-option {name}={value}: expected {shape}, '{name}' takes {expected}"
-            ) from None
-    return values
 
 
 def _best(tokens: Iterable[str], candidate: Rule) -> int | None:

@@ -47,21 +47,18 @@ from xodrlint.config import (
     read_config,
     settings_from,
 )
-from xodrlint.engine import (
-    Linter,
-    LintOptions,
-    OptionError,
-    SelectorError,
-    command_line_options,
-    declared_options,
-    resolve_rule_options,
-    select_rules,
-)
+from xodrlint.engine import Linter, LintOptions, SelectorError, select_rules
 from xodrlint.findings import NO_ENTRIES, FileReport, RunResult
 from xodrlint.formatters import Formatter, available, get_formatter, streaming, warnings_of
 from xodrlint.messages import one_line
 from xodrlint.output import STDOUT, error_line
 from xodrlint.registry import Registry
+from xodrlint.rule_options import (
+    OptionError,
+    command_line_options,
+    declared_options,
+    resolve_rule_options,
+)
 from xodrlint.validation.sets import Origin, SchemaLoadError
 from xodrlint.workers.batch import Engine, default_jobs, in_order, stream_tasks
 

@@ -23,7 +23,7 @@ from xodrlint.cli.check import CheckRequest, UsageError, prepare_linter
 from xodrlint.cli.notes import run_notes
 from xodrlint.config import ConfigError
 from xodrlint.document import Document, load_bytes
-from xodrlint.engine import OptionError, SelectorError
+from xodrlint.engine import SelectorError
 from xodrlint.files import overwrites
 from xodrlint.findings import FileReport, Finding, RunResult
 from xodrlint.formatters import get_formatter
@@ -36,6 +36,7 @@ from xodrlint.messages import plural
 from xodrlint.model import RailNetwork, build_network
 from xodrlint.output import error_line, write_output
 from xodrlint.registry import Registry
+from xodrlint.rule_options import OptionError
 from xodrlint.validation.sets import SchemaLoadError
 
 #: Chord tolerance of the drawing in metres: finer than the 1 cm the coordinates keep

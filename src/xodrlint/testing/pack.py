@@ -99,7 +99,8 @@ class RulePack:
         """How the findings of ``case`` differ from its ``expect`` marks, line and code."""
         if not case.path.name.startswith(("valid_", "invalid_")):
             return [f"{case.id}: a case is named valid_* or invalid_*"]
-        from xodrlint.engine import OptionError, SelectorError
+        from xodrlint.engine import SelectorError
+        from xodrlint.rule_options import OptionError
 
         try:
             report = self.lint(case)
