@@ -9,9 +9,8 @@ from typing import Any
 
 import pytest
 
-#: Testing the rule packs (tests/test_rule_cases.py, tests/test_docs.py): what the
-#: pytest11 entry point loads once xodrlint is installed; named here for a checkout whose
-#: environment predates it (pytest skips a plugin that is loaded already).
+#: The plugin that runs xodrlint's own rules as a pack under test (tests/test_rule_cases.py,
+#: tests/test_docs.py), loaded by name as a third-party pack loads it with -p.
 pytest_plugins = ["xodrlint.testing.plugin"]
 
 REPO = Path(__file__).resolve().parents[1]

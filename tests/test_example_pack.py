@@ -41,17 +41,8 @@ def _installed(tmp_path: Path) -> dict[str, str]:
 
 def test_the_example_pack_passes_its_own_tests(tmp_path: Path) -> None:
     done = subprocess.run(
-        # the plugin by name: an environment installed before it had its entry point
-        [
-            sys.executable,
-            "-m",
-            "pytest",
-            "-q",
-            "-p",
-            "no:cacheprovider",
-            "-p",
-            "xodrlint.testing.plugin",
-        ],
+        # the pack's own configuration loads the plugin (-p in its addopts)
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider"],
         cwd=PACK,
         env=_installed(tmp_path),
         capture_output=True,

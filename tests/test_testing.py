@@ -336,3 +336,15 @@ def test_the_plugin_turns_cases_into_test_items(pack: RulePack) -> None:
         "station 'Example Halt' has a name"
     ) in done.stdout
     assert "1 failed, 5 passed" in done.stdout.splitlines()[-1]
+
+
+def test_xodrlint_declares_no_pytest11_entry_point() -> None:
+    # pytest rewrites every module of a distribution with a pytest11 entry point: all of
+    # xodrlint, in every pytest session wherever it is installed, and runpy of
+    # xodrlint.__main__ then fails (tests/test_cli.py); packs load the plugin with -p
+    import tomllib
+
+    project = tomllib.loads((REPO / "pyproject.toml").read_text())["project"]
+    assert "pytest11" not in project.get("entry-points", {})
+    pack = tomllib.loads((REPO / "examples" / "rulepack" / "pyproject.toml").read_text())
+    assert "-p xodrlint.testing.plugin" in pack["tool"]["pytest"]["ini_options"]["addopts"]

@@ -198,9 +198,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     root = Path.cwd()
     if not (root / "rules").is_dir():
-        print(
-            "run from the root of the repository or pack (no rules/ folder here)", file=sys.stderr
-        )
+        print("run from the repository root, or a pack's (no rules/ folder here)", file=sys.stderr)
         return 2
     if not packs:
         from xodrlint.cli.apidoc import PAGE, replace_section

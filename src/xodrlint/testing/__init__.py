@@ -5,8 +5,8 @@
 - :class:`RuleCase`, :func:`read_case`, :func:`find_cases`: the cases, with their
   ``<!-- expect: CODE -->`` marks.
 - :func:`docstring_problems`: whether a rule's docstring makes a complete doc page.
-- :mod:`xodrlint.testing.plugin`: the pytest plugin (entry point ``xodrlint`` of
-  ``pytest11``) that makes test items of them; :mod:`xodrlint.testing.suite`: the tests.
+- :mod:`xodrlint.testing.plugin`: the pytest plugin (``-p xodrlint.testing.plugin``)
+  that makes test items of them; :mod:`xodrlint.testing.suite`: the tests.
 
 Nothing here imports pytest (only the plugin and the suite do), so a pack may check
 itself with any runner.

@@ -1,7 +1,8 @@
-"""The pytest plugin of rule packs (the ``xodrlint`` entry point of ``pytest11``).
+"""The pytest plugin of rule packs.
 
-A pack configures it in ``[tool.pytest.ini_options]``::
+A pack loads and configures it in ``[tool.pytest.ini_options]``::
 
+    addopts = "-p xodrlint.testing.plugin"
     xodrlint_packs = ["my_pack"]      # what its xodrlint.rules entry point names
     xodrlint_cases = "rules"          # folders of cases, rules/<CODE>/ (the default)
     xodrlint_docs = "docs/rules"      # generated doc pages (the default)
@@ -9,8 +10,12 @@ A pack configures it in ``[tool.pytest.ini_options]``::
 and a test that asks for ``xodrlint_case`` runs once per case, one that asks for
 ``xodrlint_rule`` once per rule of the pack; ``xodrlint_pack`` is the
 :class:`~xodrlint.testing.RulePack` that checks them. :mod:`xodrlint.testing.suite`
-holds the tests themselves. In a project that asks for none of these the plugin does
-nothing, and it imports nothing of xodrlint's until a test asks.
+holds the tests themselves. Until a test asks, it imports nothing of xodrlint's.
+
+It is loaded by name, not through a ``pytest11`` entry point: pytest rewrites the
+assertions of every module of a distribution that declares one, which for xodrlint
+would be the whole package in every pytest session of every environment it is
+installed in (and ``runpy`` of ``xodrlint.__main__`` fails under that import hook).
 """
 
 from __future__ import annotations
