@@ -121,7 +121,7 @@ class BrokenLinterPlugin(WorkerPlugin):
     """Stands in for the engine's plugin on workers whose xodrlint cannot build a linter
     (not installed there, or another version)."""
 
-    def __init__(self, options: object) -> None:
+    def __init__(self, options: object, rules: object = ()) -> None:
         self.options = options
 
     def setup(self, worker: object) -> None:

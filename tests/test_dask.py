@@ -364,3 +364,47 @@ def test_jsonl_streams_from_the_cluster_the_lines_of_one_process(
     lines = streamed.stdout.splitlines()
     assert len(lines) > 40 and sorted(lines) == sorted(one.stdout.splitlines())
     assert streamed.stderr == one.stderr
+
+
+def test_workers_with_other_rules_than_the_run_are_one_line_and_exit_2(
+    maps: Path, cluster: LocalCluster, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # a pack installed here and not there (or the other way): their reports would differ
+    # from --jobs's in silence
+    from xodrlint.engine import select_rules
+
+    def one_rule_fewer(*args: Any) -> list[Any]:
+        return select_rules(*args)[1:]
+
+    monkeypatch.setattr(engine, "select_rules", one_rule_fewer)
+    result = run("check", "--scheduler", cluster.scheduler_address, maps)
+    assert result.exit_code == 2
+    (line,) = result.stderr.splitlines()
+    assert (
+        "the workers cannot build a linter (its rules differ from this run's; it has PT001" in line
+    )
+
+
+def test_a_relative_schema_goes_out_absolute(
+    cluster: LocalCluster, client: Client, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # the workers' working folder is not this one's
+    made: list[Any] = []
+
+    class Capture(BrokenLinterPlugin):
+        def __init__(self, options: Any, rules: Any = ()) -> None:
+            super().__init__(options)
+            made.append(options)
+
+    monkeypatch.setattr(engine, "LinterPlugin", Capture)
+    monkeypatch.chdir(REPO)
+    tasks = [Task(Path("examples/clean.xodr"), "examples/clean.xodr")]
+    with pytest.raises(engine.SchedulerError):
+        list(lint_on_cluster(client, LintOptions(schema=Path("examples")), tasks))
+    assert made[0].schema == REPO / "examples"
+
+
+def test_a_schema_a_worker_cannot_see_stops_the_run() -> None:
+    plugin = engine.LinterPlugin(LintOptions(schema=Path("/nonexistent/schemas")), ())
+    with pytest.raises(RuntimeError, match="the schema /nonexistent/schemas is not there"):
+        plugin.setup(None)

@@ -114,6 +114,37 @@ def test_a_pack_using_a_reserved_prefix_is_refused(packs: Path, code: str) -> No
     ]
 
 
+OPTION_RULE = """
+from collections.abc import Iterator
+from xodrlint.rules import Hit, RailNetwork, RuleOption, Severity, rule
+
+@rule(
+    code="AC002",
+    name="acme-option",
+    uid="acme:xodr:1.0.0:option",
+    severity=Severity.INFO,
+    options=(RuleOption("{option}", 1.0, "what it bounds"),),
+)
+def check(network: RailNetwork, settings: dict[str, float]) -> Iterator[Hit]:
+    yield from ()
+"""
+
+
+@pytest.mark.parametrize("option", ["exclude", "select", "schema"])
+def test_a_pack_whose_option_is_named_as_a_setting_is_refused(packs: Path, option: str) -> None:
+    # the config table and the command line are shared: 'exclude' would break --exclude
+    (packs / "settings_squatter.py").write_text(textwrap.dedent(OPTION_RULE.format(option=option)))
+    sys.modules.pop("settings_squatter", None)
+    importlib.invalidate_caches()
+    point = Plugin("settings_squatter", "settings_squatter", ENTRY_POINT_GROUP, "acme-rules", "2.3")
+    codes, warnings = _load(_pack(packs, "good2", "AC001"), point)
+    assert "AC002" not in codes and "AC001" in codes
+    assert warnings == [
+        "rule pack 'settings_squatter' (settings_squatter, from acme-rules 2.3) declares rule "
+        f"options named as xodrlint's own settings ({option}): none of its rules run"
+    ]
+
+
 def test_each_rule_knows_its_pack(packs: Path) -> None:
     registry = load_registry([*installed(ENTRY_POINT_GROUP), _pack(packs, "house", "AC001")])
     assert registry.by_code["AC001"].meta.origin == PackInfo("house", "acme-rules", "2.3")

@@ -279,6 +279,9 @@ _READERS: Final[Mapping[str, _Reader]] = {
     "max-file-size": parse_size,
     "rule-timeout": seconds,
 }
+#: The keys of the settings themselves: a rule option (a pack's too) may take none of
+#: these names, which share the config table and the command line with it.
+SETTING_KEYS: Final = frozenset(_READERS)
 
 
 def settings_from(

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from types import ModuleType
 from typing import Final, Protocol
 
+from xodrlint.config import SETTING_KEYS
 from xodrlint.findings import PackInfo, RuleMeta
 from xodrlint.plugins import installed
 from xodrlint.rules import API_VERSION, RESERVED_PREFIXES, Rule, collect
@@ -112,6 +113,12 @@ def load_pack(point: _Point) -> tuple[Rule, ...]:
             f"rule pack {where} uses codes reserved for xodrlint's own rules "
             f"({', '.join(reserved)}; reserved: {', '.join(RESERVED_PREFIXES)}...): "
             "none of its rules run"
+        )
+    taken = sorted({o.name for r in pack for o in r.meta.options if o.name in SETTING_KEYS})
+    if taken:
+        raise PackRefused(
+            f"rule pack {where} declares rule options named as xodrlint's own settings "
+            f"({', '.join(taken)}): none of its rules run"
         )
     origin = PackInfo(point.name, *_distribution(point), builtin=builtin)
     return tuple(Rule(r.meta._replace(origin=origin), r.check) for r in pack)

@@ -33,7 +33,7 @@ from distributed.client import FutureCancelledError
 from distributed.scheduler import KilledWorker
 
 from xodrlint import __version__
-from xodrlint.engine import Linter, LintOptions
+from xodrlint.engine import Linter, LintOptions, select_rules
 from xodrlint.findings import FileReport
 from xodrlint.registry import load_registry
 from xodrlint.workers import background
@@ -56,8 +56,10 @@ class LinterPlugin(WorkerPlugin):
     """One warm linter per worker process for one run, built from the run's options when
     the worker joins (or when the run starts, on a worker already there)."""
 
-    def __init__(self, options: LintOptions) -> None:
+    def __init__(self, options: LintOptions, rules: tuple[str, ...]) -> None:
         self.options = options
+        self.rules = rules
+        """The codes of the rules the client's run selected: the worker's must be these."""
         self.linter: Linter | None = None
         self.lock: threading.Lock | None = None
 
@@ -65,7 +67,20 @@ class LinterPlugin(WorkerPlugin):
         # beside other workers that keep every core busy: a thread of its own for each
         # file's validation would only add switches (as in batch's workers)
         os.environ[background.ENV] = "0"
-        self.linter = Linter(load_registry(), self.options)
+        schema = self.options.schema
+        if schema is not None and not schema.exists():  # else: the built-in, silently
+            raise RuntimeError(f"the schema {schema} is not there on the worker")
+        linter = Linter(load_registry(), self.options)
+        found = tuple(rule.code for rule in linter.rules)
+        if found != self.rules:  # other rule packs there: another report than --jobs's
+            lacking = sorted(set(self.rules) - set(found))
+            more = sorted(set(found) - set(self.rules))
+            raise RuntimeError(
+                "its rules differ from this run's"
+                + (f"; it lacks {', '.join(lacking)}" if lacking else "")
+                + (f"; it has {', '.join(more)} too" if more else "")
+            )
+        self.linter = linter
         # a worker with several threads runs several tasks at once: they take turns,
         # as a linter is made for one caller at a time
         self.lock = threading.Lock()
@@ -93,10 +108,19 @@ def connect(
         with _local_cluster(workers or default_jobs()) as cluster, Client(cluster) as client:
             yield client
         return
+    if address.startswith("tls://") and not _tls_configured():
+        # checked first: a Client that fails on it leaves a traceback from its __del__
+        raise SchedulerError(
+            "a tls:// scheduler needs dask's TLS configuration (distributed.comm.tls)"
+        )
     try:
         client = Client(address, timeout=timeout, set_as_default=False)
     except ValueError as error:  # dask names what is wrong with the address
         raise SchedulerError(f"not a scheduler address: {error}") from None
+    except TypeError:  # tls:// without dask's TLS configuration (its certificates)
+        raise SchedulerError(
+            "a tls:// scheduler needs dask's TLS configuration (distributed.comm.tls)"
+        ) from None
     except OSError:
         raise SchedulerError(f"cannot reach the scheduler within {timeout:g} s") from None
     with client:
@@ -105,6 +129,12 @@ def connect(
         except TimeoutError:
             raise SchedulerError(f"no worker joined the scheduler within {timeout:g} s") from None
         yield client
+
+
+def _tls_configured() -> bool:
+    import dask
+
+    return bool(dask.config.get("distributed.comm.tls.ca-file", None))
 
 
 def _local_cluster(workers: int) -> LocalCluster:
@@ -141,9 +171,14 @@ def lint_on_cluster(
     # a worker's working folder is not this process's: each file by its absolute path
     # (its reports name it as it was given)
     tasks = [task._replace(path=task.path.absolute()) for task in tasks]
+    if options.schema is not None:
+        options = options._replace(schema=options.schema.absolute())
+    rules = tuple(
+        rule.code for rule in select_rules(load_registry(), options.select, options.ignore)
+    )
     plugin = f"xodrlint-{uuid.uuid4().hex}"
     try:
-        client.register_plugin(LinterPlugin(options), name=plugin)
+        client.register_plugin(LinterPlugin(options, rules), name=plugin)
     except Exception as error:  # raised on a worker: its xodrlint is missing or another
         raise SchedulerError(
             f"the workers cannot build a linter ({error}): install this xodrlint, "
