@@ -23,12 +23,13 @@ from typing import TYPE_CHECKING, NamedTuple, TextIO, cast, overload
 from xodrlint.api import STDIN, Input, exit_code, os_reason
 from xodrlint.cli.inputs import read_stdin
 from xodrlint.cli.notes import run_notes, say_notes
-from xodrlint.config import Settings, any_match
+from xodrlint.config import Settings, any_match, glob_matches
 from xodrlint.engine import Linter
 from xodrlint.findings import FileReport
 from xodrlint.formatters import StreamingFormatter
 from xodrlint.messages import one_line
 from xodrlint.output import STDOUT, error_line, release, write_output
+from xodrlint.remote import url_path
 from xodrlint.workers.batch import Engine, Task
 
 if TYPE_CHECKING:
@@ -89,7 +90,8 @@ def stream_inputs(source: Source) -> Generator[tuple[int, FileReport], None, Non
 
 
 def _is_file(item: Input) -> bool:
-    return item.path is not None and item.error is None
+    """Whether the engine lints ``item``: a local file, or an object by URL."""
+    return (item.path is not None or item.url is not None) and item.error is None
 
 
 class _Tasks(Sequence[Task]):
@@ -119,17 +121,32 @@ class _Tasks(Sequence[Task]):
         if isinstance(number, slice):
             return [self[i] for i in range(len(self))[number]]
         item = self._inputs[self._positions[number]]
+        if item.url is not None:  # read by its worker; this process only listed it
+            return Task(
+                Path(item.url),
+                item.display,
+                per_file_ignores(self._settings, url_path(item.url)),
+                url=item.url,
+                size=item.size,
+                max_file_size=self._settings.max_file_size,
+            )
         path = cast("Path", item.path)  # a file's: never None
         return Task(path, item.display, per_file_ignores(self._settings, path))
 
 
-def per_file_ignores(settings: Settings, path: Path) -> tuple[tuple[str, str], ...]:
-    """The ``per-file-ignores`` selectors that apply to ``path``, each with where it was set."""
+def per_file_ignores(settings: Settings, path: Path | str) -> tuple[tuple[str, str], ...]:
+    """The ``per-file-ignores`` selectors that apply to ``path``, each with where it was
+    set: a local file, or the path part of a URL (``maps/a.xodr``), matched as it stands
+    (it lies below no local folder)."""
     where = f"per-file-ignores in {settings.config_file or 'the command line'}"
     return tuple(
         (selector, f"{where} ({glob})")
         for glob, selectors in settings.per_file_ignores
-        if any_match([glob], path, settings.base)
+        if (
+            any_match([glob], path, settings.base)
+            if isinstance(path, Path)
+            else glob_matches(glob, path)
+        )
         for selector in selectors
     )
 
