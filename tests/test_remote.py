@@ -390,3 +390,8 @@ def test_a_task_by_url_is_scheduled_by_its_listed_size() -> None:
     url = "s3://bucket/maps/a.xodr"
     assert batch._size(Task(Path(url), url, (), url, 12345)) == 12345
     assert batch._size(Task(Path(url), url, (), url)) == 0  # unknown: never asked for
+
+
+def test_an_empty_object_reads_as_empty(memory: str) -> None:
+    fsspec.filesystem("memory").pipe(f"/{memory.removeprefix('memory://')}/maps/empty.xodr", b"")
+    assert remote.read_url(f"{memory}/maps/empty.xodr", 100) == b""

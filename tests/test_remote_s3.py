@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import gc
 import json
 import logging
 import os
@@ -100,6 +101,7 @@ def _no_thread_outlives_the_module() -> Iterator[None]:
     import fsspec.asyn
 
     s3fs.S3FileSystem.clear_instance_cache()
+    gc.collect()  # s3fs closes a forgotten filesystem's connections on the loop, if it runs
     loop, thread = fsspec.asyn.loop[0], fsspec.asyn.iothread[0]
     if loop is not None and thread is not None:
         # the thread that resolved host names for it, then the loop's own
@@ -220,6 +222,23 @@ def test_reports_name_the_urls(s3: str) -> None:
         for location in result["locations"]
     }
     assert location == f"{FOLDER}/examples/broken.xodr"
+
+
+def test_reading_stops_at_the_limit_and_an_empty_object_is_empty(s3: str) -> None:
+    from xodrlint import remote
+
+    url = f"{FOLDER}/examples/broken.xodr"
+    data = MAPS["examples/broken.xodr"].read_bytes()
+    assert remote.read_url(url, len(data)) == data
+    with pytest.raises(remote.TooLarge):  # an object grown since it was listed
+        remote.read_url(url, len(data) - 1)
+    fs = s3fs.S3FileSystem()
+    fs.mkdir("scratch", exist_ok=True)
+    fs.pipe("scratch/empty.xodr", b"")
+    assert remote.read_url("s3://scratch/empty.xodr", 100) == b""
+    result = cli("check", "-f", "json", "s3://scratch/empty.xodr", code=1)
+    (finding,) = json.loads(result.stdout)["findings"]
+    assert finding["path"] == "s3://scratch/empty.xodr" and finding["code"] == "XS001"
 
 
 # What is not there, or not allowed ----------------------------------------------------

@@ -125,17 +125,28 @@ def _found(fs: "AbstractFileSystem", url: str, path: str) -> list[Listed]:
 
 
 def read_url(url: str, limit: int) -> bytes:
-    """The bytes of the object ``url`` names; :class:`TooLarge` past ``limit`` bytes,
-    checked on the object's size before anything is read where the store tells it."""
+    """The bytes of the object ``url`` names; :class:`TooLarge` past ``limit`` bytes.
+
+    One request for the first ``limit + 1`` bytes (``Range: bytes=0-limit`` on S3), not
+    a HEAD for the size and a GET for the bytes: a worker's time per file on a store is
+    its round trips. An empty object has no byte 0 to start a range at, which S3 answers
+    with an error: only then is the size asked for.
+    """
     fs, path = filesystem(url)
-    with _Reasons(fs, path), fs.open(path, "rb") as stream:
-        size = getattr(stream, "size", None)
-        if isinstance(size, int) and size > limit:
-            raise TooLarge("too large")
-        data: bytes = stream.read(limit + 1)
+    with _Reasons(fs, path):
+        try:
+            data: bytes = fs.cat_file(path, start=0, end=limit + 1)
+        except Exception as error:
+            if not _unsatisfiable(error) or fs.size(path) != 0:
+                raise
+            data = b""
     if len(data) > limit:
         raise TooLarge("too large")
     return data
+
+
+def _unsatisfiable(error: Exception) -> bool:
+    return any(_error_code(link) in ("InvalidRange", "416") for link in _chain(error))
 
 
 def filesystem(url: str) -> "tuple[AbstractFileSystem, str]":
