@@ -395,3 +395,10 @@ def test_a_task_by_url_is_scheduled_by_its_listed_size() -> None:
 def test_an_empty_object_reads_as_empty(memory: str) -> None:
     fsspec.filesystem("memory").pipe(f"/{memory.removeprefix('memory://')}/maps/empty.xodr", b"")
     assert remote.read_url(f"{memory}/maps/empty.xodr", 100) == b""
+
+
+def test_jsonl_streams_the_findings_of_urls(memory: str) -> None:
+    result = cli("check", "-f", "jsonl", f"{memory}/maps/sub", code=1)
+    lines = [json.loads(line) for line in result.stdout.splitlines()]
+    assert {line["path"] for line in lines} == {f"{memory}/maps/sub/b.xodr"}
+    assert [line["code"] for line in lines] == ["PT003", "ST004"]
