@@ -37,7 +37,8 @@ LAYOUT = {
 @pytest.fixture
 def memory() -> Iterator[str]:
     """``memory://<unique>/`` holding :data:`LAYOUT`, removed afterwards (the memory
-    filesystem is one store for the whole process)."""
+    filesystem is one store for the whole process, and only this process's: runs over
+    it lint with one job, since a fresh worker would find it empty)."""
     fs = fsspec.filesystem("memory")
     root = f"xl-{uuid.uuid4().hex[:8]}"
     for name, source in LAYOUT.items():
@@ -239,21 +240,21 @@ def test_a_url_is_no_path_below_the_root() -> None:
 
 def test_a_baseline_holds_urls_and_withholds_their_findings(memory: str, tmp_path: Path) -> None:
     baseline = tmp_path / "baseline.json"
-    cli("check", "--write-baseline", baseline, f"{memory}/maps", code=0)
+    cli("check", "-j", "1", "--write-baseline", baseline, f"{memory}/maps", code=0)
     paths = {entry["path"] for entry in json.loads(baseline.read_text())["findings"]}
     assert paths == {
         f"{memory}/maps/a.xodr",
         f"{memory}/maps/sub/b.xodr",
         f"{memory}/maps/tmp/d.xodr",
     }
-    cli("check", "--baseline", baseline, f"{memory}/maps", code=0)
+    cli("check", "-j", "1", "--baseline", baseline, f"{memory}/maps", code=0)
 
 
 def test_per_file_ignores_match_the_path_part_of_a_url(memory: str, tmp_path: Path) -> None:
     config = tmp_path / "xodrlint.toml"
     config.write_text('[per-file-ignores]\n"maps/tmp/**" = ["ALL"]\n')
     report = json.loads(
-        cli("check", "--config", config, "-f", "json", f"{memory}/maps", code=1).stdout
+        cli("check", "-j", "1", "--config", config, "-f", "json", f"{memory}/maps", code=1).stdout
     )
     assert f"{memory}/maps/a.xodr" in {f["path"] for f in report["findings"]}
     assert f"{memory}/maps/tmp/d.xodr" not in {f["path"] for f in report["findings"]}

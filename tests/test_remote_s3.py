@@ -140,6 +140,10 @@ def s3(endpoint: str, aws: Path, monkeypatch: pytest.MonkeyPatch) -> str:
     return endpoint
 
 
+# Runs in this process lint with one job: workers would come from the fork server an
+# earlier test may have started, with that test's environment, not this one's endpoint
+# and credentials. The run over workers is a process of its own (WATCHED_RUN).
+
 # Listing -----------------------------------------------------------------------------
 
 
@@ -211,7 +215,7 @@ def test_workers_read_the_maps_and_report_what_local_disk_gives(s3: str, tmp_pat
 
 
 def test_reports_name_the_urls(s3: str) -> None:
-    result = cli("check", "-f", "json", f"{FOLDER}/examples/*.xodr", code=1)
+    result = cli("check", "-j", "1", "-f", "json", f"{FOLDER}/examples/*.xodr", code=1)
     report = json.loads(result.stdout)
     assert [f["path"] for f in report["files"]] == [u for u in URLS if "/examples/" in u]
     assert {f["path"] for f in report["findings"]} <= set(URLS)
@@ -288,7 +292,7 @@ def test_credentials_come_from_the_aws_files(
         "[default]\naws_access_key_id = testing\naws_secret_access_key = testing\n"
     )
     s3fs.S3FileSystem.clear_instance_cache()
-    cli("check", FOLDER, code=1)
+    cli("check", "-j", "1", FOLDER, code=1)
 
 
 @pytest.mark.parametrize("variable", ["AWS_ENDPOINT_URL_S3", "AWS_ENDPOINT_URL"])
