@@ -123,6 +123,12 @@ class Input(NamedTuple):
     url: str | None = None
     size: int | None = None
 
+    @property
+    def lintable(self) -> bool:
+        """Whether an engine lints this input: a file, or an object by URL, that no
+        error kept out (standard input is read by the command itself)."""
+        return self.error is None and (self.path is not None or self.url is not None)
+
 
 def collect_inputs(
     paths: Iterable[str],

@@ -30,7 +30,7 @@ from xodrlint.formatters import StreamingFormatter
 from xodrlint.messages import one_line
 from xodrlint.output import STDOUT, error_line, release, write_output
 from xodrlint.remote import url_path
-from xodrlint.workers.batch import Engine, Task
+from xodrlint.workers.batch import Engine, Task, task_of
 
 if TYPE_CHECKING:
     from collections import Counter
@@ -90,8 +90,7 @@ def stream_inputs(source: Source) -> Generator[tuple[int, FileReport], None, Non
 
 
 def _is_file(item: Input) -> bool:
-    """Whether the engine lints ``item``: a local file, or an object by URL."""
-    return (item.path is not None or item.url is not None) and item.error is None
+    return item.lintable
 
 
 class _Tasks(Sequence[Task]):
@@ -121,17 +120,11 @@ class _Tasks(Sequence[Task]):
         if isinstance(number, slice):
             return [self[i] for i in range(len(self))[number]]
         item = self._inputs[self._positions[number]]
-        if item.url is not None:  # read by its worker; this process only listed it
-            return Task(
-                Path(item.url),
-                item.display,
-                per_file_ignores(self._settings, url_path(item.url)),
-                url=item.url,
-                size=item.size,
-                max_file_size=self._settings.max_file_size,
-            )
-        path = cast("Path", item.path)  # a file's: never None
-        return Task(path, item.display, per_file_ignores(self._settings, path))
+        # an object by URL is read by its worker (this process only listed it); its
+        # per-file-ignores match the path in its bucket
+        where = url_path(item.url) if item.url is not None else cast("Path", item.path)
+        external = per_file_ignores(self._settings, where)
+        return task_of(item, external, self._settings.max_file_size)
 
 
 def per_file_ignores(settings: Settings, path: Path | str) -> tuple[tuple[str, str], ...]:

@@ -20,6 +20,7 @@ from collections.abc import Callable, Generator, Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Final, NamedTuple, Protocol, cast
 
+from xodrlint.api import Input
 from xodrlint.config import DEFAULT_MAX_FILE_SIZE
 from xodrlint.engine import ExternalIgnores, Linter, LintOptions
 from xodrlint.findings import FileReport
@@ -53,6 +54,25 @@ class Task(NamedTuple):
     url: str | None = None
     size: int | None = None
     max_file_size: int = DEFAULT_MAX_FILE_SIZE
+
+
+def task_of(
+    item: Input, external: ExternalIgnores = (), max_file_size: int = DEFAULT_MAX_FILE_SIZE
+) -> Task:
+    """The task that lints ``item`` (one that is :attr:`~xodrlint.api.Input.lintable`):
+    a file, or an object by URL that its worker reads, at most ``max_file_size`` bytes."""
+    if item.url is not None:
+        return Task(
+            Path(item.url),
+            item.display,
+            external,
+            url=item.url,
+            size=item.size,
+            max_file_size=max_file_size,
+        )
+    if item.path is None:
+        raise ValueError(f"{item.display}: not a file an engine lints")
+    return Task(item.path, item.display, external)
 
 
 LintTask = Callable[[Task], FileReport]
