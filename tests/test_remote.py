@@ -389,8 +389,8 @@ def test_a_task_by_url_is_scheduled_by_its_listed_size() -> None:
     from xodrlint.workers import batch
 
     url = "s3://bucket/maps/a.xodr"
-    assert batch._size(Task(Path(url), url, (), url, 12345)) == 12345
-    assert batch._size(Task(Path(url), url, (), url)) == 0  # unknown: never asked for
+    assert batch.task_size(Task(Path(url), url, (), url, 12345)) == 12345
+    assert batch.task_size(Task(Path(url), url, (), url)) == 0  # unknown: never asked for
 
 
 def test_an_empty_object_reads_as_empty(memory: str) -> None:

@@ -228,7 +228,7 @@ def _stream_pool(
 ) -> Generator[tuple[int, FileReport], None, list[int]]:
     """Lint ``indexes`` in worker processes, yielding each report as its message comes
     back; returns the indexes whose worker died."""
-    chunks = schedule(indexes, [_size(tasks[i]) for i in indexes], jobs)
+    chunks = schedule(indexes, [task_size(tasks[i]) for i in indexes], jobs)
 
     def lint_chunk(number: int) -> list[FileReport]:
         return _lint_chunk(worker, [tasks[i] for i in chunks[number]])
@@ -332,7 +332,9 @@ def schedule(
     return chunks
 
 
-def _size(task: Task) -> int:
+def task_size(task: Task) -> int:
+    """The bytes of ``task``'s file, to schedule the largest first: an object's from its
+    listing (no request to the store), a local file's from a ``stat``."""
     if task.url is not None:
         return task.size or 0
     try:
