@@ -71,6 +71,11 @@ def _same(got: FileReport, expected: FileReport) -> bool:
     return got._replace(timings={}) == expected._replace(timings={})
 
 
+def _what(report: FileReport) -> list[tuple[object, ...]]:
+    """What a report found, wherever its file was read from."""
+    return [(f.code, f.line, f.column, f.message, f.xpath) for f in report.findings]
+
+
 def test_lint_paths_yields_a_report_per_file_as_files_complete(
     maps: Path, dask_client: Client
 ) -> None:
@@ -101,6 +106,20 @@ def test_lint_paths_in_input_order_with_options_and_excludes(
     assert all(_same(report, expected[report.path]) for report in got if report.error is None)
 
 
+def test_lint_paths_lists_a_url_here_and_its_workers_read_it(
+    maps: Path, dask_client: Client
+) -> None:
+    url = f"file://{maps.as_posix()}"
+    got = list(lint_paths(dask_client, [url], exclude=["*net-1*"], ordered=True))
+    files = [p for p in sorted(maps.iterdir()) if p.name != "net-1.xodr"]
+    assert [report.path for report in got] == [f"{url}/{p.name}" for p in files]
+    expected = _reference([Path("maps") / p.name for p in files])
+    for report, path in zip(got, files, strict=True):
+        assert _what(report) == _what(expected[f"maps/{path.name}"])
+    (gone,) = lint_paths(dask_client, [f"{url}/gone.xodr"])
+    assert gone.error == f"{url}/gone.xodr: no such file or directory"
+
+
 def test_a_partition_lints_its_paths_in_order_with_one_linter_per_options(maps: Path) -> None:
     paths = [*sorted(Path("maps").iterdir()), Path("maps/gone.xodr")]
     got = lint_partition(paths)
@@ -109,6 +128,9 @@ def test_a_partition_lints_its_paths_in_order_with_one_linter_per_options(maps: 
     assert all(_same(report, expected[report.path]) for report in got[:-1])
     again = lint_partition(paths[:1])
     assert _same(again[0], got[0])
+    url = f"file://{paths[0].resolve().as_posix()}"  # an object by URL, read here
+    (by_url,) = lint_partition([url])
+    assert by_url.path == url and _what(by_url) == _what(got[0])
 
 
 def test_a_frame_has_a_row_per_finding_and_one_per_file_not_linted(maps: Path) -> None:

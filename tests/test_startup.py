@@ -14,7 +14,8 @@ from .test_cli import CLEAN
 #: worker pools (-j on many files), forking large documents, plugin scans (cache misses),
 #: the other formats and commands, the table of old import paths, drawing the plan view
 #: (the track-geometry rules evaluate it at switch points and joints only), reading
-#: ignore files (folder walks only), Dask (--scheduler only).
+#: ignore files (folder walks only), Dask (--scheduler only), object storage (inputs by URL
+#: only).
 NOT_FOR_A_SMALL_JSON_RUN = (
     "xmlschema",
     "elementpath",
@@ -40,6 +41,12 @@ NOT_FOR_A_SMALL_JSON_RUN = (
     "distributed",
     "xodrlint.workers.dask",
     "xodrlint.distributed",
+    # object storage (inputs by URL)
+    "fsspec",
+    "s3fs",
+    "botocore",
+    "aiobotocore",
+    "aiohttp",
 )
 
 _RUN = """
@@ -84,11 +91,11 @@ def test_a_small_clean_run_loads_only_what_it_uses(tmp_path: Path) -> None:
 
 def test_value_types_are_made_without_compiling_their_annotations() -> None:
     # typing compiles each string annotation of a named tuple when the class is made
-    from xodrlint import findings, model
+    from xodrlint import findings, model, remote
 
     quoted = {
         f"{module.__name__}.{name}.{field}"
-        for module in (findings, model)
+        for module in (findings, model, remote)
         for name, value in vars(module).items()
         if isinstance(value, type) and issubclass(value, tuple) and hasattr(value, "_fields")
         for field, annotation in value.__annotations__.items()

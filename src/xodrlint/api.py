@@ -18,11 +18,12 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Final, NamedTuple
 
-from xodrlint.config import DEFAULT_MAX_FILE_SIZE, format_size
+from xodrlint.config import DEFAULT_MAX_FILE_SIZE, too_large
 from xodrlint.engine import Linter, LintOptions
 from xodrlint.files import special_kind
 from xodrlint.findings import FileReport, Severity
 from xodrlint.registry import Registry, load_registry
+from xodrlint.remote import is_url
 from xodrlint.walk import IgnoreFiles, WalkRules
 
 __all__ = ["LintOptions", "Linter", "collect_inputs", "lint_bytes", "lint_file"]
@@ -83,9 +84,12 @@ def lint_file(
 ) -> FileReport:
     """Lint one file; a file that cannot be read gives a report with ``error`` set.
 
-    ``rule_options`` sets rule options by name (``{"rail-min-width": 1.0}``).
+    ``path`` may be a URL that fsspec reads (``s3://bucket/maps/a.xodr``; the ``cloud``
+    extra). ``rule_options`` sets rule options by name (``{"rail-min-width": 1.0}``).
     """
     linter = _linter_for(select, ignore, schema, rule_options)
+    if isinstance(path, str) and is_url(path):
+        return linter.lint_url(path)
     return linter.lint_path(Path(path))
 
 
@@ -107,7 +111,8 @@ class Input(NamedTuple):
     """One thing to lint: a file, standard input, or a path that cannot be linted.
 
     ``error`` says why a path cannot be linted (exit 2); ``skipped`` why a file met in a
-    folder or a glob is left out without failing the run (a FIFO, a device).
+    folder or a glob is left out without failing the run (a FIFO, a device). An input by
+    URL has ``url`` (what its worker reads) and ``size`` (from the listing), no ``path``.
     """
 
     display: str
@@ -115,6 +120,14 @@ class Input(NamedTuple):
     error: str | None = None
     is_stdin: bool = False
     skipped: str | None = None
+    url: str | None = None
+    size: int | None = None
+
+    @property
+    def lintable(self) -> bool:
+        """Whether an engine lints this input: a file, or an object by URL, that no
+        error kept out (standard input is read by the command itself)."""
+        return self.error is None and (self.path is not None or self.url is not None)
 
 
 def collect_inputs(
@@ -123,10 +136,16 @@ def collect_inputs(
     max_file_size: int = DEFAULT_MAX_FILE_SIZE,
     *,
     respect_gitignore: bool = True,
+    exclude_url: Callable[[str], bool] | None = None,
 ) -> Iterator[Input]:
     """Files as given, folders walked for ``*.xodr`` (sorted, symlinks not followed), and
     glob patterns (``maps/**/*.xodr``) expanded when no such path exists. ``exclude``
     drops files, found or given, that it matches.
+
+    A URL (``s3://bucket/maps/**/*.xodr``) is listed the same way through fsspec
+    (:mod:`xodrlint.remote`): an object, every ``*.xodr`` below a "folder", or a glob's
+    matches as full URLs; ``exclude_url`` drops those whose path part (``maps/a.xodr``)
+    it matches. Ignore files do not apply to URLs.
 
     A walk leaves out hidden names and, with ``respect_gitignore``, what ``.gitignore``,
     ``.ignore`` and ``info/exclude`` exclude (:mod:`xodrlint.walk`); a file named as
@@ -140,10 +159,19 @@ def collect_inputs(
     """
     # a file named several ways (f, ./f, its absolute path, a link to it) is linted once
     seen: set[tuple[int, int]] = set()
+    seen_urls: set[str] = set()
     ignore_files = IgnoreFiles() if respect_gitignore else None
     for raw in paths:
         if raw == STDIN:
             yield Input(STDIN, is_stdin=True)
+            continue
+        if is_url(raw):
+            for item in _expand_url(raw, max_file_size, exclude_url):
+                if item.error is None and item.url is not None:
+                    if item.url in seen_urls:
+                        continue
+                    seen_urls.add(item.url)
+                yield item
             continue
         for item in _expand(raw, max_file_size, ignore_files):
             if item.path is not None and exclude is not None and exclude(item.path):
@@ -243,6 +271,57 @@ def _glob(pattern: str, max_file_size: int, ignore_files: IgnoreFiles | None) ->
         yield _found(path, max_file_size)
 
 
+def _expand_url(
+    raw: str, max_file_size: int, exclude: Callable[[str], bool] | None
+) -> Iterator[Input]:
+    """The objects a URL names, listed once here; they are read where they are linted."""
+    from xodrlint.config import glob_matches
+    from xodrlint.remote import RemoteError, list_below, list_url, url_path
+
+    scheme, rest = raw.split("://", 1)
+    parts = rest.split("/")
+    fixed = next((i for i, part in enumerate(parts) if glob.has_magic(part)), None)
+    if fixed == 0:
+        yield Input(raw, error=f"{raw}: the bucket or host of a URL cannot be a glob")
+        return
+    listed_url = raw if fixed is None else f"{scheme}://{'/'.join(parts[:fixed])}"
+    try:
+        listed = list_url(raw) if fixed is None else list_below(listed_url)
+    except RemoteError as error:
+        if fixed is None or not error.missing:
+            yield Input(raw, error=f"{raw}: {error}")
+            return
+        listed = []  # nothing below a glob's folder: as for a local glob, no match
+    if fixed is None:
+        named = len(listed) == 1 and listed[0].url == raw  # one object, whatever its name
+        found = listed if named else [o for o in listed if _is_xodr(o.url)]
+    else:
+        pattern = "/".join(parts[fixed:])
+        found = [
+            o
+            for o in listed
+            for below in [o.url[len(listed_url) :].lstrip("/")]
+            if o.url.startswith(listed_url)
+            and (
+                glob_matches(pattern, below, whole=True, anywhere=False)
+                or (_is_xodr(o.url) and glob_matches(pattern, below, anywhere=False))
+            )
+        ]
+        if not found:
+            yield Input(raw, error=f"{raw}: no file matches")
+    for item in found:
+        if exclude is not None and exclude(url_path(item.url)):
+            continue
+        if item.size is not None and item.size > max_file_size:
+            yield Input(item.url, url=item.url, error=too_large(item.url, max_file_size))
+        else:
+            yield Input(item.url, url=item.url, size=item.size)
+
+
+def _is_xodr(name: str) -> bool:
+    return name.lower().endswith(XODR_SUFFIX)
+
+
 def _shown_as_given(path: Path, root: str, fixed: list[str]) -> str:
     """``path`` spelt as the pattern spells its folder (``./`` dropped, as glob does)."""
     posix = path.as_posix()
@@ -300,12 +379,6 @@ def _checked(
     if status.st_size > max_file_size:
         return Input(shown, path=path, error=too_large(shown, max_file_size))
     return Input(shown, path=path)
-
-
-def too_large(shown: str, max_file_size: int) -> str:
-    """Why an input larger than ``max_file_size`` is not read."""
-    limit = format_size(max_file_size)
-    return f"{shown}: larger than the maximum file size ({limit}, see --max-file-size)"
 
 
 def printable_path(name: str) -> str:

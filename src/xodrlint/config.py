@@ -251,6 +251,12 @@ def format_size(size: int) -> str:
     return str(size)
 
 
+def too_large(shown: str, max_file_size: int) -> str:
+    """Why an input larger than ``max_file_size`` is not read."""
+    limit = format_size(max_file_size)
+    return f"{shown}: larger than the maximum file size ({limit}, see --max-file-size)"
+
+
 def _globs_to_codes(value: object) -> tuple[tuple[str, tuple[str, ...]], ...]:
     if not isinstance(value, dict):
         raise TypeError("a table of glob = [codes]")

@@ -26,11 +26,12 @@ from typing import TYPE_CHECKING, Any, Final
 from distributed import Client
 
 from xodrlint.api import collect_inputs
-from xodrlint.config import DEFAULT_MAX_FILE_SIZE, any_match
+from xodrlint.config import DEFAULT_MAX_FILE_SIZE, any_match, glob_matches
 from xodrlint.engine import Linter, LintOptions
 from xodrlint.findings import FileReport
 from xodrlint.registry import load_registry
-from xodrlint.workers.batch import Task, lint_task
+from xodrlint.remote import is_url
+from xodrlint.workers.batch import Task, lint_task, task_of
 from xodrlint.workers.dask import DEFAULT_RETRIES, lint_on_cluster
 
 if TYPE_CHECKING:
@@ -83,7 +84,10 @@ def lint_paths(
     holds glob patterns of files to leave out, as ``--exclude`` does.
 
     The paths are read by the workers: they must see the same files at the same paths.
-    Close the iterator (or run it to its end) to release the run's work on the cluster.
+    A URL (``s3://bucket/maps/**/*.xodr``) is listed here and each object read by the
+    worker that lints it, through fsspec (``exclude`` then matches the path in the
+    bucket). Close the iterator (or run it to its end) to release the run's work on the
+    cluster.
     """
     folder = Path.cwd()
     found = collect_inputs(
@@ -91,14 +95,15 @@ def lint_paths(
         (lambda path: any_match(exclude, path, folder)) if exclude else None,
         max_file_size,
         respect_gitignore=respect_gitignore,
+        exclude_url=(lambda part: any(glob_matches(g, part) for g in exclude)) if exclude else None,
     )
     inputs = [item for item in found if item.skipped is None and not item.is_stdin]
-    tasks = [Task(item.path, item.display) for item in inputs if item.path and not item.error]
-    where = [number for number, item in enumerate(inputs) if item.path and not item.error]
+    tasks = [task_of(item, max_file_size=max_file_size) for item in inputs if item.lintable]
+    where = [number for number, item in enumerate(inputs) if item.lintable]
     done: dict[int, FileReport] = {
         number: FileReport(item.display, error=item.error)
         for number, item in enumerate(inputs)
-        if item.error is not None or item.path is None
+        if not item.lintable
     }
     if not ordered:
         yield from done.values()
@@ -138,11 +143,16 @@ def lint_partition(
     paths: Iterable[str | os.PathLike[str]], options: LintOptions | None = None
 ) -> list[FileReport]:
     """The reports of ``paths``, in their order, linted in this process (a Dask worker,
-    for a bag's ``map_partitions``). Each path is a file's: folders and globs are
-    :func:`lint_paths`'s. A file that cannot be read is a report with ``error`` set."""
+    for a bag's ``map_partitions``). Each path is a file's, or an object's URL (read
+    here): folders and globs are :func:`lint_paths`'s. A file that cannot be read is a
+    report with ``error`` set."""
     linter, lock = _linter(options or LintOptions())
     with lock:
-        return [lint_task(linter, Task(Path(path), os.fspath(path))) for path in paths]
+        return [lint_task(linter, _task(os.fspath(path))) for path in paths]
+
+
+def _task(name: str) -> Task:
+    return Task(Path(name), name, url=name if is_url(name) else None)
 
 
 def findings_meta() -> pd.DataFrame:

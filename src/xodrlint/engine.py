@@ -18,7 +18,7 @@ from typing import Final, NamedTuple
 
 from lxml import etree
 
-from xodrlint.config import DEFAULT_RULE_TIMEOUT
+from xodrlint.config import DEFAULT_MAX_FILE_SIZE, DEFAULT_RULE_TIMEOUT, too_large
 from xodrlint.document import Document, Version, load_bytes
 from xodrlint.files import NotRegularFile, read_regular_file
 from xodrlint.findings import (
@@ -218,10 +218,30 @@ class Linter:
         except OSError as error:
             return FileReport(shown, error=_os_error(error, shown))
         read = time.perf_counter() - started
-        report = self.lint_bytes(data, shown, external)
-        timings = {"read": read, **report.timings}
-        timings["total"] = timings.get("total", 0.0) + read
-        return report._replace(timings=timings)
+        return _with_read_time(self.lint_bytes(data, shown, external), read)
+
+    def lint_url(
+        self,
+        url: str,
+        display: str | None = None,
+        external: ExternalIgnores = (),
+        max_file_size: int = DEFAULT_MAX_FILE_SIZE,
+    ) -> FileReport:
+        """Lint the object ``url`` names (``s3://bucket/maps/a.xodr``), read here through
+        fsspec; more than ``max_file_size`` bytes is an error, and so is what the store
+        or the network refuses (one line, :mod:`xodrlint.remote`)."""
+        from xodrlint.remote import RemoteError, TooLarge, read_url
+
+        shown = display or url
+        started = time.perf_counter()
+        try:
+            data = read_url(url, max_file_size)
+        except TooLarge:
+            return FileReport(shown, error=too_large(shown, max_file_size))
+        except RemoteError as error:
+            return FileReport(shown, error=f"{shown}: {error}")
+        read = time.perf_counter() - started
+        return _with_read_time(self.lint_bytes(data, shown, external), read)
 
     @property
     def last_document(self) -> LastDocument | None:
@@ -457,6 +477,13 @@ def _one_defect_one_finding(stamped: list[_Stamped]) -> list[_Stamped]:
     return [
         s for s in stamped if not any((s.finding.xpath, code) in reported for code in s.defers_to)
     ]
+
+
+def _with_read_time(report: FileReport, read: float) -> FileReport:
+    """``report`` with the seconds its file took to read added."""
+    timings = {"read": read, **report.timings}
+    timings["total"] = timings.get("total", 0.0) + read
+    return report._replace(timings=timings)
 
 
 def _os_error(error: OSError, shown: str) -> str:

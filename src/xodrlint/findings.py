@@ -9,6 +9,8 @@ from enum import StrEnum
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final, NamedTuple
 
+from xodrlint.remote import is_url
+
 if TYPE_CHECKING:
     from lxml import etree
 
@@ -114,8 +116,10 @@ def relative_path(path: str, root: str) -> str:
     """``path`` as a POSIX path relative to ``root`` when it lies below it, else as given.
 
     Reports and fingerprints name files this way, so they do not change with the folder a
-    checkout lives in.
+    checkout lives in. A URL (``s3://bucket/a.xodr``) is no path below any folder: as given.
     """
+    if is_url(path):
+        return path
     if path == "-" or not root:
         return path.replace(os.sep, "/")
     # normpath, not resolve(): a path through a symlink is reported as the user wrote it

@@ -11,8 +11,8 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Final, NamedTuple
 
-from xodrlint.api import STDIN, Input, collect_inputs, printable_path, too_large
-from xodrlint.config import Settings, any_match
+from xodrlint.api import STDIN, Input, collect_inputs, printable_path
+from xodrlint.config import Settings, any_match, glob_matches, too_large
 from xodrlint.messages import one_line, plural
 from xodrlint.output import error_line
 
@@ -40,6 +40,7 @@ def collect(paths: Sequence[str], settings: Settings) -> list[Input]:
         _excluder(settings),
         settings.max_file_size,
         respect_gitignore=settings.respect_gitignore,
+        exclude_url=_url_excluder(settings),
     )
     for item in found:
         if item.skipped is not None:
@@ -56,6 +57,14 @@ def _excluder(settings: Settings) -> Callable[[Path], bool] | None:
     if not settings.exclude:
         return None
     return lambda path: any_match(settings.exclude, path, settings.base)
+
+
+def _url_excluder(settings: Settings) -> Callable[[str], bool] | None:
+    """``exclude`` for inputs by URL: its globs match the URL's path part (``maps/a.xodr``
+    of ``s3://bucket/maps/a.xodr``), which lies below no local folder."""
+    if not settings.exclude:
+        return None
+    return lambda part: any(glob_matches(pattern, part) for pattern in settings.exclude)
 
 
 def show_files(inputs: list[Input], stdin_filename: str | None) -> int:

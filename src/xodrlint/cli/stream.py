@@ -23,13 +23,14 @@ from typing import TYPE_CHECKING, NamedTuple, TextIO, cast, overload
 from xodrlint.api import STDIN, Input, exit_code, os_reason
 from xodrlint.cli.inputs import read_stdin
 from xodrlint.cli.notes import run_notes, say_notes
-from xodrlint.config import Settings, any_match
+from xodrlint.config import Settings, any_match, glob_matches
 from xodrlint.engine import Linter
 from xodrlint.findings import FileReport
 from xodrlint.formatters import StreamingFormatter
 from xodrlint.messages import one_line
 from xodrlint.output import STDOUT, error_line, release, write_output
-from xodrlint.workers.batch import Engine, Task
+from xodrlint.remote import url_path
+from xodrlint.workers.batch import Engine, Task, task_of
 
 if TYPE_CHECKING:
     from collections import Counter
@@ -89,7 +90,7 @@ def stream_inputs(source: Source) -> Generator[tuple[int, FileReport], None, Non
 
 
 def _is_file(item: Input) -> bool:
-    return item.path is not None and item.error is None
+    return item.lintable
 
 
 class _Tasks(Sequence[Task]):
@@ -119,17 +120,26 @@ class _Tasks(Sequence[Task]):
         if isinstance(number, slice):
             return [self[i] for i in range(len(self))[number]]
         item = self._inputs[self._positions[number]]
-        path = cast("Path", item.path)  # a file's: never None
-        return Task(path, item.display, per_file_ignores(self._settings, path))
+        # an object by URL is read by its worker (this process only listed it); its
+        # per-file-ignores match the path in its bucket
+        where = url_path(item.url) if item.url is not None else cast("Path", item.path)
+        external = per_file_ignores(self._settings, where)
+        return task_of(item, external, self._settings.max_file_size)
 
 
-def per_file_ignores(settings: Settings, path: Path) -> tuple[tuple[str, str], ...]:
-    """The ``per-file-ignores`` selectors that apply to ``path``, each with where it was set."""
+def per_file_ignores(settings: Settings, path: Path | str) -> tuple[tuple[str, str], ...]:
+    """The ``per-file-ignores`` selectors that apply to ``path``, each with where it was
+    set: a local file, or the path part of a URL (``maps/a.xodr``), matched as it stands
+    (it lies below no local folder)."""
     where = f"per-file-ignores in {settings.config_file or 'the command line'}"
     return tuple(
         (selector, f"{where} ({glob})")
         for glob, selectors in settings.per_file_ignores
-        if any_match([glob], path, settings.base)
+        if (
+            any_match([glob], path, settings.base)
+            if isinstance(path, Path)
+            else glob_matches(glob, path)
+        )
         for selector in selectors
     )
 

@@ -48,6 +48,7 @@ from urllib.parse import quote
 
 from xodrlint.config import DEFAULT_SARIF_MAX_RESULTS
 from xodrlint.findings import Finding, RuleMeta, RunResult, Severity, Suppressed, relative_path
+from xodrlint.remote import is_url
 
 from ._common import MALFORMED, rules_by_code, run_fingerprints
 
@@ -263,7 +264,11 @@ def _absolute(path: str) -> Path:
 
 
 def artifact_location(path: str, root: str) -> JsonObject:
-    """``path`` as a URI relative to ``%SRCROOT%``, or absolute when outside the root."""
+    """``path`` as a URI relative to ``%SRCROOT%``, or absolute when outside the root; a
+    URL (``s3://bucket/a.xodr``) is its own URI, percent-encoded where a key needs it."""
+    if is_url(path):
+        scheme, rest = path.split("://", 1)
+        return {"uri": f"{scheme}://{quote(rest, safe='/:@')}"}
     relative = relative_path(path, root)
     if path != "-" and (
         Path(relative).is_absolute() or relative == ".." or relative.startswith("../")

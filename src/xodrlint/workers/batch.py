@@ -20,6 +20,8 @@ from collections.abc import Callable, Generator, Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Final, NamedTuple, Protocol, cast
 
+from xodrlint.api import Input
+from xodrlint.config import DEFAULT_MAX_FILE_SIZE
 from xodrlint.engine import ExternalIgnores, Linter, LintOptions
 from xodrlint.findings import FileReport
 from xodrlint.output import interactive
@@ -39,11 +41,38 @@ PROGRESS_AFTER_SECONDS: Final = 1.0
 
 
 class Task(NamedTuple):
-    """One file to lint: where it is, how reports name it, what is withheld from outside."""
+    """One file to lint: where it is, how reports name it, what is withheld from outside.
+
+    A file by URL has ``url`` set: its worker reads it from there (through fsspec), at
+    most ``max_file_size`` bytes, and ``path`` (the URL as a path) is never opened;
+    ``size`` is the listing's, which schedules it without asking the store again.
+    """
 
     path: Path
     display: str
     external: ExternalIgnores = ()
+    url: str | None = None
+    size: int | None = None
+    max_file_size: int = DEFAULT_MAX_FILE_SIZE
+
+
+def task_of(
+    item: Input, external: ExternalIgnores = (), max_file_size: int = DEFAULT_MAX_FILE_SIZE
+) -> Task:
+    """The task that lints ``item`` (one that is :attr:`~xodrlint.api.Input.lintable`):
+    a file, or an object by URL that its worker reads, at most ``max_file_size`` bytes."""
+    if item.url is not None:
+        return Task(
+            Path(item.url),
+            item.display,
+            external,
+            url=item.url,
+            size=item.size,
+            max_file_size=max_file_size,
+        )
+    if item.path is None:
+        raise ValueError(f"{item.display}: not a file an engine lints")
+    return Task(item.path, item.display, external)
 
 
 LintTask = Callable[[Task], FileReport]
@@ -90,13 +119,16 @@ def lint_in_worker(task: Task) -> FileReport:
 
 
 def lint_task(linter: Linter, task: Task) -> FileReport:
-    """``task``'s report, wherever it runs (this process, a forked worker, a Dask worker).
+    """``task``'s report, wherever it runs (this process, a forked worker, a Dask worker):
+    a local file, or an object by URL, read here (the client only listed it).
 
     A file that makes the linter itself fail (not one rule: the engine keeps those to
     the rule) is that file's internal error, and the other files go on; a schema set
     that cannot be compiled is the run's error and ends it.
     """
     try:
+        if task.url is not None:
+            return linter.lint_url(task.url, task.display, task.external, task.max_file_size)
         return linter.lint_path(task.path, task.display, task.external)
     except SchemaLoadError:
         raise
@@ -163,8 +195,10 @@ def stream_tasks(
                 yield index, lint_task(linter, task)
                 bar.advance()
         return
-    # Compile the first file's schema here, once: forked workers inherit it.
-    linter.warm_up(tasks[0].path)
+    # Compile the first file's schema here, once: forked workers inherit it. An object
+    # by URL is read by its worker only (the client lists, never reads).
+    if tasks[0].url is None:
+        linter.warm_up(tasks[0].path)
     _WORKER["linter"] = linter
     everything = range(len(tasks))
     # The collector of a forked worker walks every object it inherited, and touching one
@@ -194,7 +228,7 @@ def _stream_pool(
 ) -> Generator[tuple[int, FileReport], None, list[int]]:
     """Lint ``indexes`` in worker processes, yielding each report as its message comes
     back; returns the indexes whose worker died."""
-    chunks = schedule(indexes, [_size(tasks[i].path) for i in indexes], jobs)
+    chunks = schedule(indexes, [task_size(tasks[i]) for i in indexes], jobs)
 
     def lint_chunk(number: int) -> list[FileReport]:
         return _lint_chunk(worker, [tasks[i] for i in chunks[number]])
@@ -298,9 +332,13 @@ def schedule(
     return chunks
 
 
-def _size(path: Path) -> int:
+def task_size(task: Task) -> int:
+    """The bytes of ``task``'s file, to schedule the largest first: an object's from its
+    listing (no request to the store), a local file's from a ``stat``."""
+    if task.url is not None:
+        return task.size or 0
     try:
-        return path.stat().st_size
+        return task.path.stat().st_size
     except OSError:  # gone since it was found: its worker reports that
         return 0
 

@@ -37,7 +37,7 @@ from xodrlint.engine import Linter, LintOptions, select_rules
 from xodrlint.findings import FileReport
 from xodrlint.registry import load_registry
 from xodrlint.workers import background
-from xodrlint.workers.batch import Task, default_jobs, lint_task, schedule
+from xodrlint.workers.batch import Task, default_jobs, lint_task, schedule, task_size
 
 #: ``--scheduler`` for a cluster of this machine's own, started for the run.
 LOCAL: Final = "local"
@@ -196,7 +196,7 @@ def _lint_all(
     client: Client, plugin: str, tasks: Sequence[Task], retries: int
 ) -> Iterator[tuple[int, FileReport]]:
     threads = max(1, sum(client.nthreads().values()))
-    chunks = schedule(range(len(tasks)), [_size(task) for task in tasks], threads)
+    chunks = schedule(range(len(tasks)), [task_size(task) for task in tasks], threads)
     lost: list[int] = []
     alone: list[int] = []
     for chunk, reports in _run(client, plugin, tasks, chunks, retries):
@@ -254,9 +254,3 @@ def _run(
             with contextlib.suppress(OSError):  # no scheduler left: nothing to cancel
                 client.cancel(list(futures))
 
-
-def _size(task: Task) -> int:
-    try:
-        return task.path.stat().st_size
-    except OSError:  # gone, or not a local path: its worker reports what it finds
-        return 0
