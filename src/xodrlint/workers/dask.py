@@ -253,4 +253,3 @@ def _run(
         if futures:
             with contextlib.suppress(OSError):  # no scheduler left: nothing to cancel
                 client.cancel(list(futures))
-
