@@ -530,3 +530,24 @@ def test_a_streaming_command_runs(command: str, tmp_path: Path) -> None:
         assert lines_of(output.read_text("utf-8"))
     if not written:
         assert done.stdout.strip()
+
+
+def test_an_internal_error_is_a_line_of_its_own_and_in_the_json_report() -> None:
+    # a pipeline reading jsonl or JSON tells which file's findings may be incomplete
+    registry = default_registry()
+    report = Linter(registry, LintOptions()).lint_path(TWO, "two.xodr")
+    crashed = report._replace(internal_errors=("rule SW001 failed on two.xodr: KeyError('x')",))
+    result = RunResult((crashed,), registry.metas, "0", root=str(REPO))
+    stream = io.StringIO()
+    get_formatter("jsonl").render(result, stream)
+    lines = lines_of(stream.getvalue())
+    assert lines[-1] == {
+        "path": "two.xodr",
+        "internal_error": "rule SW001 failed on two.xodr: KeyError('x')",
+    }
+    assert [line["code"] for line in lines[:-1]] == ["PT003", "ST004"]
+    stream = io.StringIO()
+    get_formatter("json").render(result, stream)
+    document = json.loads(stream.getvalue())
+    jsonschema.validate(document, OUTPUT_SCHEMA)
+    assert document["files"][0]["internal_errors"] == list(crashed.internal_errors)

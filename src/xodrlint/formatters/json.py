@@ -74,6 +74,7 @@ def _file(report: FileReport) -> dict[str, object]:
         ),
         "findings": len(report.findings),
         "error": report.error,
+        "internal_errors": list(report.internal_errors),
     }
 
 

@@ -2,8 +2,10 @@
 is done (``docs/jsonl-output.schema.json``).
 
 A finding's line is the object a finding is in the JSON report (the same keys, the same
-values); a file that could not be read is ``{"path": ..., "error": ...}``, so a reader
-tells the two apart by the ``error`` key. Nothing else is written: no summary, no
+values); a file that could not be read is ``{"path": ..., "error": ...}``, and each
+internal error of a file (a rule that crashed or ran out of time on it: its findings
+may be incomplete, and the run exits 3) ``{"path": ..., "internal_error": ...}``, so a
+reader tells them apart by their keys. Nothing else is written: no summary, no
 header, no notes (the command prints the run's notes, what was not checked, on stderr
 after the last line), and a file without findings writes no line.
 
@@ -41,6 +43,9 @@ class JsonlFormatter:
             stream.write(_escaped(error))
         for finding in report.findings:
             stream.write(line(finding))
+        for crash in report.internal_errors:  # what the findings may lack (exit 3)
+            failed = f'{{"path":{_string(report.path)},"internal_error":{_string(crash)}}}'
+            stream.write(_escaped(failed))
 
 
 #: How ``json.dumps(..., ensure_ascii=False)`` writes a string (C where available).
