@@ -7,14 +7,14 @@ can report them; :mod:`xodrlint.testing.plugin` turns them into pytest items.
 
 from __future__ import annotations
 
-import re
 from collections import Counter
 from collections.abc import Sequence
 from functools import cached_property
 from pathlib import Path
-from typing import TYPE_CHECKING, Final
+from typing import TYPE_CHECKING
 
 from xodrlint.findings import RuleMeta
+from xodrlint.rules import CODE_PATTERN
 from xodrlint.testing.cases import CASE_SUFFIX, SELECTION_FILE, RuleCase, cases_in, find_cases
 from xodrlint.testing.docstrings import docstring_problems
 from xodrlint.testing.pages import render_page
@@ -23,9 +23,6 @@ if TYPE_CHECKING:
     from xodrlint.findings import FileReport
     from xodrlint.registry import Registry
     from xodrlint.rules import Rule
-
-#: A folder named like a rule code holds that rule's cases.
-_CODE_FOLDER: Final = re.compile(r"^[A-Z]{2,4}\d{3}$")
 
 
 class PackError(ValueError):
@@ -150,7 +147,7 @@ class RulePack:
         for folder in sorted({case.path.parent for case in self.cases}):
             if (folder / SELECTION_FILE).is_file():
                 continue
-            if not _CODE_FOLDER.match(folder.name):
+            if not CODE_PATTERN.match(folder.name):  # a case folder is named as a code
                 problems.append(f"{folder} is named for no rule and has no {SELECTION_FILE}")
             elif folder.name not in codes:
                 problems.append(
