@@ -15,7 +15,7 @@ from .test_cli import CLEAN
 #: the other formats and commands, the table of old import paths, drawing the plan view
 #: (the track-geometry rules evaluate it at switch points and joints only), reading
 #: ignore files (folder walks only), Dask (--scheduler only), object storage (inputs by URL
-#: only).
+#: only), the language server.
 NOT_FOR_A_SMALL_JSON_RUN = (
     "xmlschema",
     "elementpath",
@@ -47,6 +47,11 @@ NOT_FOR_A_SMALL_JSON_RUN = (
     "botocore",
     "aiobotocore",
     "aiohttp",
+    # the language server (xodrlint server) and its protocol library
+    "xodrlint.server",
+    "pygls",
+    "lsprotocol",
+    "asyncio",
 )
 
 _RUN = """

@@ -547,6 +547,17 @@ def map_command(
     raise typer.Exit(run_map(MapRequest(lint, output)))
 
 
+@app.command("server")
+def server_command() -> None:
+    """Run the language server over standard input and output, for editors (see
+    docs/editors.md; needs the server extra: pip install 'xodrlint[server]')."""
+    try:
+        from xodrlint.server.protocol import serve
+    except ImportError as error:
+        _fail(f"the language server needs pygls ({error}): pip install 'xodrlint[server]'")
+    raise typer.Exit(serve())
+
+
 @app.command("config", cls=_Command)
 def config_command(
     paths: Annotated[

@@ -1,0 +1,100 @@
+"""Findings as LSP diagnostics: ranges in the client's position encoding, the rule's page,
+related locations. Pure functions over a snapshot of the text that was linted."""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+from typing import Final
+
+from lsprotocol import types
+
+from xodrlint.findings import FileReport, Finding, Severity
+from xodrlint.registry import Registry
+
+SOURCE: Final = "xodrlint"
+HELP_URI: Final = "https://github.com/xodrlint/xodrlint/blob/main/docs/rules/{code}.md"
+BUILTIN_PACK_PREFIX: Final = "xodrlint.rules"
+SEVERITY: Final = {
+    Severity.ERROR: types.DiagnosticSeverity.Error,
+    Severity.WARNING: types.DiagnosticSeverity.Warning,
+    Severity.INFO: types.DiagnosticSeverity.Information,
+}
+#: An XML name after ``<``: the range of a diagnostic ends where the start tag's name does.
+_NAME: Final = re.compile(r"[^\s/>]+")
+
+
+class Lines:
+    """The lines of the linted text, split once (``\\n``, as the parser counts them)."""
+
+    def __init__(self, text: str) -> None:
+        self._lines = text.split("\n")
+
+    def get(self, line: int) -> str:
+        """The 1-based ``line``'s text, empty past the end (a finding of a stale tree)."""
+        return self._lines[line - 1] if 0 < line <= len(self._lines) else ""
+
+
+def units(text: str, encoding: str) -> int:
+    """How long ``text`` is in the client's position units: UTF-16 code units (LSP's
+    default: a character outside the BMP counts two), UTF-8 bytes or code points."""
+    if encoding == types.PositionEncodingKind.Utf32:
+        return len(text)
+    if encoding == types.PositionEncodingKind.Utf8:
+        return len(text.encode("utf-8", "surrogatepass"))
+    return len(text.encode("utf-16-le", "surrogatepass")) // 2
+
+
+def tag_range(lines: Lines, line: int, column: int | None, encoding: str) -> types.Range:
+    """From the start tag's ``<`` to the end of its name; the whole line where the finding
+    has no column (a file in an encoding whose columns cannot be counted)."""
+    text = lines.get(line)
+    row = max(line - 1, 0)
+    if column is None:
+        return types.Range(types.Position(row, 0), types.Position(row, units(text, encoding)))
+    start = column - 1
+    name = _NAME.match(text, start + 1) if text[start : start + 1] == "<" else None
+    end = name.end() if name else min(start + 1, len(text))
+    first = units(text[:start], encoding)
+    return types.Range(
+        types.Position(row, first), types.Position(row, first + units(text[start:end], encoding))
+    )
+
+
+def help_uri(registry: Registry, code: str) -> str | None:
+    """The rule's page in the repository, as SARIF's ``helpUri``: built-in rules only."""
+    rule = registry.by_code.get(code)
+    if rule is None:
+        return None
+    pack = rule.meta.pack
+    builtin = pack == BUILTIN_PACK_PREFIX or pack.startswith(BUILTIN_PACK_PREFIX + ".")
+    return HELP_URI.format(code=code) if builtin else None
+
+
+def diagnostic(
+    finding: Finding, uri: str, lines: Lines, encoding: str, registry: Registry
+) -> types.Diagnostic:
+    href = help_uri(registry, finding.code)
+    related = [
+        types.DiagnosticRelatedInformation(
+            types.Location(uri, tag_range(lines, place.line, None, encoding)), place.xpath
+        )
+        for place in finding.related
+    ]
+    return types.Diagnostic(
+        range=tag_range(lines, finding.line, finding.column, encoding),
+        message=finding.message,
+        severity=SEVERITY.get(finding.severity, types.DiagnosticSeverity.Warning),
+        code=finding.code,
+        code_description=types.CodeDescription(href) if href else None,
+        source=SOURCE,
+        related_information=related or None,
+        data={"xpath": finding.xpath, "line": finding.line},
+    )
+
+
+def diagnostics(
+    report: FileReport, uri: str, text: str, encoding: str, registry: Registry
+) -> Sequence[types.Diagnostic]:
+    lines = Lines(text)
+    return [diagnostic(f, uri, lines, encoding, registry) for f in report.findings]

@@ -1,0 +1,80 @@
+"""The linter for a document: the configuration that governs its folder, found as the
+command line finds it (the nearest ``xodrlint.toml`` or ``pyproject.toml`` with
+``[tool.xodrlint]``), reloaded when that file changes."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import NamedTuple
+
+from xodrlint.config import CONFIG_NAMES, ConfigError, ConfigFile, find_config, settings_from
+from xodrlint.engine import Linter, LintOptions, SelectorError
+from xodrlint.registry import Registry
+from xodrlint.rule_options import declared_options
+
+
+class Choice(NamedTuple):
+    """A folder's linter and, when its configuration could not be used, why not."""
+
+    linter: Linter
+    problem: str | None = None
+
+
+def _stamp(folder: Path) -> tuple[tuple[str, int], ...]:
+    """What decides a folder's configuration: the config files in it and above it, with
+    their modification times, so an edit (or a new file) is noticed on the next lint."""
+    found = []
+    for candidate in (folder, *folder.parents):
+        for name in CONFIG_NAMES:
+            try:
+                found.append((str(candidate / name), (candidate / name).stat().st_mtime_ns))
+            except OSError:
+                continue
+    return tuple(found)
+
+
+class Folders:
+    """One linter per folder, rebuilt when the folder's configuration files change."""
+
+    def __init__(self, registry: Registry) -> None:
+        self._registry = registry
+        self._chosen: dict[Path, tuple[tuple[tuple[str, int], ...], Choice]] = {}
+
+    def linter_for(self, path: Path) -> Choice:
+        folder = path.parent.resolve()
+        stamp = _stamp(folder)
+        cached = self._chosen.get(folder)
+        if cached is not None and cached[0] == stamp:
+            return cached[1]
+        choice = self._choose(folder)
+        self._chosen[folder] = (stamp, choice)
+        return choice
+
+    def forget(self) -> None:
+        """Drop every linter (a watched configuration file changed)."""
+        self._chosen.clear()
+
+    def _choose(self, folder: Path) -> Choice:
+        try:
+            return Choice(self._linter(find_config(folder)))
+        except (ConfigError, SelectorError, ValueError) as error:
+            # the defaults, and the reason, rather than no diagnostics at all
+            return Choice(self._linter(None), str(error))
+
+    def _linter(self, found: ConfigFile | None) -> Linter:
+        registry = self._registry
+        settings = settings_from(
+            found, {}, rule_options=declared_options(registry), known_codes=registry.by_code
+        )
+        if settings.schema is not None and not settings.schema.exists():
+            raise ConfigError(f"schema {settings.schema}: no such file or folder")
+        options = LintOptions(
+            select=settings.selected,
+            ignore=settings.ignore,
+            severity=settings.severity,
+            schema=settings.schema,
+            rule_options=settings.rule_options,
+            warn_unused_suppressions=settings.warn_unused_suppressions,
+            rule_timeout=settings.rule_timeout or None,
+        )
+        return Linter(registry, options)
