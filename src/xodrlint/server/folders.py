@@ -7,17 +7,46 @@ from __future__ import annotations
 from pathlib import Path
 from typing import NamedTuple
 
-from xodrlint.config import CONFIG_NAMES, ConfigError, ConfigFile, find_config, settings_from
+from xodrlint.config import (
+    CONFIG_NAMES,
+    ConfigError,
+    ConfigFile,
+    Settings,
+    any_match,
+    find_config,
+    settings_from,
+)
 from xodrlint.engine import Linter, LintOptions, SelectorError
 from xodrlint.registry import Registry
 from xodrlint.rule_options import declared_options
 
 
 class Choice(NamedTuple):
-    """A folder's linter and, when its configuration could not be used, why not."""
+    """A folder's settings and linter and, when its configuration could not be used, why
+    not (the defaults apply then)."""
 
+    settings: Settings
     linter: Linter
     problem: str | None = None
+
+    def excluded(self, path: Path) -> bool:
+        """Whether the configuration's ``exclude`` leaves ``path`` out, as it does on the
+        command line even for a file named there."""
+        return bool(self.settings.exclude) and any_match(
+            self.settings.exclude, path, self.settings.base
+        )
+
+    def external(self, path: Path) -> tuple[tuple[str, str], ...]:
+        """The ``per-file-ignores`` selectors that apply to ``path``, as ``check`` applies
+        them: (selector, where it was set)."""
+        settings = self.settings
+        where = f"per-file-ignores in {settings.config_file}"
+        return tuple(
+            (selector, f"{where} ({glob})")
+            for glob, selectors in settings.per_file_ignores
+            if any_match([glob], path, settings.base)
+            for selector in selectors
+        )
 
 
 def _stamp(folder: Path) -> tuple[tuple[str, int], ...]:
@@ -56,12 +85,12 @@ class Folders:
 
     def _choose(self, folder: Path) -> Choice:
         try:
-            return Choice(self._linter(find_config(folder)))
+            return Choice(*self._linter(find_config(folder)))
         except (ConfigError, SelectorError, ValueError) as error:
             # the defaults, and the reason, rather than no diagnostics at all
-            return Choice(self._linter(None), str(error))
+            return Choice(*self._linter(None), str(error))
 
-    def _linter(self, found: ConfigFile | None) -> Linter:
+    def _linter(self, found: ConfigFile | None) -> tuple[Settings, Linter]:
         registry = self._registry
         settings = settings_from(
             found, {}, rule_options=declared_options(registry), known_codes=registry.by_code
@@ -77,4 +106,4 @@ class Folders:
             warn_unused_suppressions=settings.warn_unused_suppressions,
             rule_timeout=settings.rule_timeout or None,
         )
-        return Linter(registry, options)
+        return settings, Linter(registry, options)

@@ -73,7 +73,9 @@ class XodrServer(LanguageServer):
             self.window_show_message(
                 types.ShowMessageParams(types.MessageType.Warning, f"xodrlint: {choice.problem}")
             )
-        return choice.linter.lint_bytes(text.encode("utf-8"), str(path))
+        if choice.excluded(path):
+            return FileReport(str(path))
+        return choice.linter.lint_bytes(text.encode("utf-8"), str(path), choice.external(path))
 
     def close(self, uri: str) -> None:
         self.latest[uri] = self.latest.get(uri, 0) + 1
