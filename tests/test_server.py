@@ -221,3 +221,48 @@ async def test_an_edited_configuration_applies_on_the_next_lint(
         types.DidSaveTextDocumentParams(types.TextDocumentIdentifier(path.as_uri()))
     )
     assert [d.code for d in (await _published(client)).diagnostics] == ["PT003"]
+
+
+@pytest.mark.asyncio
+async def test_an_unusable_configuration_is_said_once_and_the_defaults_apply(
+    client: LanguageClient, tmp_path: Path
+) -> None:
+    (tmp_path / "xodrlint.toml").write_text("ignore = 3\n", "utf-8")
+    path = tmp_path / "a.xodr"
+    assert [d.code for d in await _open(client, path, EXAMPLE)] == ["PT003", "ST004"]
+    _change(client, path, 2, EXAMPLE + " ")
+    await _published(client)
+    (message,) = client.messages
+    assert message.type == types.MessageType.Warning
+    assert message.message.startswith("xodrlint: ")
+    assert "ignore" in message.message
+
+
+#: A map that takes the linter a while: many copies of the example's railroad content.
+def _large(copies: int) -> str:
+    head, _, tail = EXAMPLE.partition("  <station")
+    body = head.split("<OpenDRIVE>\n", 1)[1]
+    return head.split("<OpenDRIVE>", 1)[0] + "<OpenDRIVE>\n" + body * copies + "  <station" + tail
+
+
+@pytest.mark.asyncio
+async def test_a_long_lint_neither_blocks_requests_nor_publishes_stale_results(
+    client: LanguageClient, tmp_path: Path
+) -> None:
+    path = tmp_path / "a.xodr"
+    client.text_document_did_open(
+        types.DidOpenTextDocumentParams(
+            types.TextDocumentItem(path.as_uri(), "xml", 1, _large(3000))
+        )
+    )
+    # the server answers while it lints (hover has nothing yet: no diagnostics published)
+    hover = await client.text_document_hover_async(
+        types.HoverParams(types.TextDocumentIdentifier(path.as_uri()), types.Position(0, 0))
+    )
+    assert hover is None
+    assert path.as_uri() not in client.diagnostics  # the lint is still running
+    # an edit during the run supersedes it: the first result is never published
+    _change(client, path, 2, FIXED)
+    params = await _published(client)
+    assert params.version == 2
+    assert [d.code for d in params.diagnostics] == ["ST004"]

@@ -50,10 +50,15 @@ class XodrServer(LanguageServer):
         document = self.workspace.get_text_document(uri)
         text, version = document.source, document.version
         loop = asyncio.get_running_loop()
-        report = await loop.run_in_executor(self.pool, self._lint, uri, turn, text)
-        if report is None or self.latest.get(uri) != turn:
+        done = await loop.run_in_executor(self.pool, self._diagnose, uri, turn, text)
+        if done is None or self.latest.get(uri) != turn:
             return  # an edit came in meanwhile: its own lint publishes
-        found = list(diagnostics(report, uri, text, self.encoding, self.registry))
+        found, problem = done
+        if problem and problem not in self.told:  # once: not a message per keystroke
+            self.told.add(problem)
+            self.window_show_message(
+                types.ShowMessageParams(types.MessageType.Warning, f"xodrlint: {problem}")
+            )
         self.published[uri] = found
         self.text_document_publish_diagnostics(
             types.PublishDiagnosticsParams(uri=uri, diagnostics=found, version=version)
@@ -63,19 +68,24 @@ class XodrServer(LanguageServer):
     def encoding(self) -> str:
         return str(self.workspace.position_encoding or types.PositionEncodingKind.Utf16)
 
-    def _lint(self, uri: str, turn: int, text: str) -> FileReport | None:
+    def _diagnose(
+        self, uri: str, turn: int, text: str
+    ) -> tuple[list[types.Diagnostic], str | None] | None:
+        """In the worker thread: lint ``text`` and convert the findings (splitting a large
+        map's lines is work too), unless an edit superseded it while it waited. Also why
+        the folder's configuration could not be used, for the loop to tell the user (only
+        the loop's thread writes to the client)."""
         if self.latest.get(uri) != turn:
-            return None  # superseded while it waited for the worker
+            return None
         path = Path(to_fs_path(uri) or "untitled.xodr")
         choice = self.folders.linter_for(path)
-        if choice.problem and choice.problem not in self.told:
-            self.told.add(choice.problem)
-            self.window_show_message(
-                types.ShowMessageParams(types.MessageType.Warning, f"xodrlint: {choice.problem}")
-            )
         if choice.excluded(path):
-            return FileReport(str(path))
-        return choice.linter.lint_bytes(text.encode("utf-8"), str(path), choice.external(path))
+            report = FileReport(str(path))
+        else:
+            data = text.encode("utf-8")
+            report = choice.linter.lint_bytes(data, str(path), choice.external(path))
+        found = list(diagnostics(report, uri, text, self.encoding, self.registry))
+        return found, choice.problem
 
     def close(self, uri: str) -> None:
         self.latest[uri] = self.latest.get(uri, 0) + 1
