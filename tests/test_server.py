@@ -266,3 +266,65 @@ async def test_a_long_lint_neither_blocks_requests_nor_publishes_stale_results(
     params = await _published(client)
     assert params.version == 2
     assert [d.code for d in params.diagnostics] == ["ST004"]
+
+
+async def _actions(
+    client: LanguageClient, path: Path, diagnostic: types.Diagnostic
+) -> list[types.CodeAction]:
+    actions = await client.text_document_code_action_async(
+        types.CodeActionParams(
+            types.TextDocumentIdentifier(path.as_uri()),
+            diagnostic.range,
+            types.CodeActionContext(diagnostics=[diagnostic]),
+        )
+    )
+    return [a for a in actions or [] if isinstance(a, types.CodeAction)]
+
+
+@pytest.mark.asyncio
+async def test_suppressing_an_element_after_others_on_its_line(
+    client: LanguageClient, tmp_path: Path
+) -> None:
+    # a comment above the line would stand before the sideTrack, not the partner
+    text = EXAMPLE.replace('dir="+"/>\n        <partner name="W3"', 'dir="+"/><partner name="W3"')
+    path = tmp_path / "a.xodr"
+    found = await _open(client, path, text)
+    (here, _) = await _actions(client, path, found[0])
+    assert here.edit is not None
+    edited = _apply(text, here.edit, path.as_uri())
+    assert 'dir="+"/><!-- xodrlint: ignore[PT003] --><partner name="W3"' in edited
+    _change(client, path, 2, edited)
+    assert [d.code for d in (await _published(client)).diagnostics] == ["ST004"]
+
+
+@pytest.mark.asyncio
+async def test_a_file_that_does_not_parse_offers_no_suppression(
+    client: LanguageClient, tmp_path: Path
+) -> None:
+    path = tmp_path / "a.xodr"
+    (broken,) = await _open(client, path, EXAMPLE.replace("</station>", ""))
+    assert await _actions(client, path, broken) == []
+
+
+@pytest.mark.asyncio
+async def test_only_xodr_files_are_linted(client: LanguageClient, tmp_path: Path) -> None:
+    other = tmp_path / "a.xml"
+    client.text_document_did_open(
+        types.DidOpenTextDocumentParams(types.TextDocumentItem(other.as_uri(), "xml", 1, EXAMPLE))
+    )
+    await _open(client, tmp_path / "b.XODR", EXAMPLE)
+    assert list(client.diagnostics) == [(tmp_path / "b.XODR").as_uri()]
+
+
+@pytest.mark.asyncio
+async def test_closing_a_file_clears_its_diagnostics(
+    client: LanguageClient, tmp_path: Path
+) -> None:
+    path = tmp_path / "a.xodr"
+    assert await _open(client, path, EXAMPLE)
+    client.text_document_did_close(
+        types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(path.as_uri()))
+    )
+    params = await _published(client)
+    assert params.uri == path.as_uri()
+    assert list(params.diagnostics) == []

@@ -15,6 +15,8 @@ from xodrlint.server.convert import SOURCE
 _WHY: Final = re.compile(r"^## Why is this bad\?\s*$(?P<body>.*?)(?=^## |\Z)", re.M | re.S)
 _INDENT: Final = re.compile(r"[ \t]*")
 _DECLARATION: Final = re.compile(r"\s*<\?xml[^>]*\?>")
+#: The code of a file that is not well-formed, which no comment in it can withhold.
+UNPARSED: Final = "XS001"
 
 
 def hover_text(registry: Registry, codes: Sequence[str]) -> str | None:
@@ -38,23 +40,26 @@ def covers(item: types.Range, at: types.Position) -> bool:
     return (start.line, start.character) <= (at.line, at.character) <= (end.line, end.character)
 
 
-def _insert(uri: str, line: int, text: str) -> types.WorkspaceEdit:
-    position = types.Position(line, 0)
+def _insert(uri: str, position: types.Position, text: str) -> types.WorkspaceEdit:
     return types.WorkspaceEdit(
         changes={uri: [types.TextEdit(types.Range(position, position), text)]}
     )
 
 
-def _here(uri: str, lines: Sequence[str], code: str, line: int) -> types.CodeAction:
-    """``<!-- xodrlint: ignore[CODE] -->`` on its own line right before the element, at the
-    element's own indentation."""
-    current = lines[line] if line < len(lines) else ""
+def _here(uri: str, lines: Sequence[str], code: str, at: types.Position) -> types.CodeAction:
+    """``<!-- xodrlint: ignore[CODE] -->`` right before the element: on a line of its own at
+    the element's indentation, or just before its ``<`` where other markup precedes it on
+    its line (a comment above that line would stand before another element)."""
+    current = lines[at.line] if at.line < len(lines) else ""
     indent = _INDENT.match(current)
-    text = f"{indent.group() if indent else ''}<!-- xodrlint: ignore[{code}] -->\n"
+    comment = f"<!-- xodrlint: ignore[{code}] -->"
+    lead = indent.group() if indent else ""
+    if len(lead) >= at.character:
+        edit = _insert(uri, types.Position(at.line, 0), f"{lead}{comment}\n")
+    else:
+        edit = _insert(uri, at, comment)
     return types.CodeAction(
-        title=f"Suppress {code} here",
-        kind=types.CodeActionKind.QuickFix,
-        edit=_insert(uri, line, text),
+        title=f"Suppress {code} here", kind=types.CodeActionKind.QuickFix, edit=edit
     )
 
 
@@ -66,7 +71,7 @@ def _file(uri: str, source: str, code: str) -> types.CodeAction:
     return types.CodeAction(
         title=f"Suppress {code} in this file",
         kind=types.CodeActionKind.QuickFix,
-        edit=_insert(uri, line, f"<!-- xodrlint: ignore-file[{code}] -->\n"),
+        edit=_insert(uri, types.Position(line, 0), f"<!-- xodrlint: ignore-file[{code}] -->\n"),
     )
 
 
@@ -76,10 +81,10 @@ def code_actions(
     lines = source.split("\n")
     actions: list[types.CodeAction] = []
     for item in diagnostics:
-        if item.source != SOURCE or not isinstance(item.code, str):
-            continue
+        if item.source != SOURCE or not isinstance(item.code, str) or item.code == UNPARSED:
+            continue  # a file that does not parse has no comments to read
         for action in (
-            _here(uri, lines, item.code, item.range.start.line),
+            _here(uri, lines, item.code, item.range.start),
             _file(uri, source, item.code),
         ):
             action.diagnostics = [item]

@@ -89,7 +89,6 @@ def diagnostic(
         code_description=types.CodeDescription(href) if href else None,
         source=SOURCE,
         related_information=related or None,
-        data={"xpath": finding.xpath, "line": finding.line},
     )
 
 

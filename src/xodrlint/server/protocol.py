@@ -14,7 +14,7 @@ from pygls.lsp.server import LanguageServer
 from pygls.uris import to_fs_path
 
 from xodrlint import __version__
-from xodrlint.api import default_registry
+from xodrlint.api import XODR_SUFFIX, default_registry
 from xodrlint.findings import FileReport
 from xodrlint.server.actions import code_actions, covers, hover_text
 from xodrlint.server.convert import diagnostics
@@ -37,7 +37,10 @@ class XodrServer(LanguageServer):
         self.told: set[str] = set()
 
     def schedule(self, uri: str, delay: float) -> None:
-        """Lint ``uri`` after ``delay`` seconds; any lint asked for earlier is superseded."""
+        """Lint ``uri`` after ``delay`` seconds; any lint asked for earlier is superseded.
+        Only ``.xodr`` files: an editor may send every XML file it opens."""
+        if not uri.lower().endswith(XODR_SUFFIX):
+            return
         self.latest[uri] = self.latest.get(uri, 0) + 1
         waiting = self.pending.pop(uri, None)
         if waiting is not None:
