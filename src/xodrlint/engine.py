@@ -18,7 +18,7 @@ from typing import Final, NamedTuple
 
 from lxml import etree
 
-from xodrlint.config import DEFAULT_MAX_FILE_SIZE, DEFAULT_RULE_TIMEOUT, too_large
+from xodrlint.config import DEFAULT_MAX_FILE_SIZE, DEFAULT_RULE_TIMEOUT, Settings, too_large
 from xodrlint.document import Document, Version, load_bytes
 from xodrlint.files import NotRegularFile, read_regular_file
 from xodrlint.findings import (
@@ -80,6 +80,24 @@ class LintOptions(NamedTuple):
     an alias of ``--extend-select XL001``."""
     rule_timeout: float | None = DEFAULT_RULE_TIMEOUT
     """Seconds a rule may run on one file before it is stopped (``None``: no limit)."""
+
+    @classmethod
+    def of(
+        cls, settings: Settings, *, keep_source: bool = False, keep_suppressed: bool = False
+    ) -> LintOptions:
+        """The options ``settings`` give, the same for every client of the engine (the
+        command line, the language server); ``keep_*`` are a report's own needs."""
+        return cls(
+            select=settings.selected,
+            ignore=settings.ignore,
+            severity=settings.severity,
+            schema=settings.schema,
+            keep_source=keep_source,
+            rule_options=settings.rule_options,
+            keep_suppressed=keep_suppressed,
+            warn_unused_suppressions=settings.warn_unused_suppressions,
+            rule_timeout=settings.rule_timeout or None,
+        )
 
 
 def select_rules(registry: Registry, select: Sequence[str], ignore: Sequence[str]) -> list[Rule]:

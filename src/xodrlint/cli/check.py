@@ -59,7 +59,7 @@ from xodrlint.rule_options import (
     declared_options,
     resolve_rule_options,
 )
-from xodrlint.validation.sets import Origin, SchemaLoadError
+from xodrlint.validation.sets import SchemaLoadError
 from xodrlint.workers.batch import Engine, default_jobs, in_order, stream_tasks
 
 if TYPE_CHECKING:
@@ -339,17 +339,8 @@ def _linter(registry: Registry, settings: Settings, request: CheckRequest) -> Li
         raise UsageError(f"{flag} {settings.schema}: no such file or folder")
     for _, selectors in settings.per_file_ignores:
         select_rules(registry, selectors, ())  # an entry that names no rule is an error
-    options = LintOptions(
-        select=settings.selected,
-        ignore=settings.ignore,
-        severity=settings.severity,
-        schema=settings.schema,
-        schema_origin=Origin.OPTION,
-        keep_source=request.show_source,
-        rule_options=settings.rule_options,
-        keep_suppressed=request.show_suppressed,
-        warn_unused_suppressions=settings.warn_unused_suppressions,
-        rule_timeout=settings.rule_timeout or None,
+    options = LintOptions.of(
+        settings, keep_source=request.show_source, keep_suppressed=request.show_suppressed
     )
     # The command line exits without cleanup (cli.main): it never frees the last tree,
     # nor the linter holding it, which outlives the run in this slot (one linter at most,

@@ -97,13 +97,4 @@ class Folders:
         )
         if settings.schema is not None and not settings.schema.exists():
             raise ConfigError(f"schema {settings.schema}: no such file or folder")
-        options = LintOptions(
-            select=settings.selected,
-            ignore=settings.ignore,
-            severity=settings.severity,
-            schema=settings.schema,
-            rule_options=settings.rule_options,
-            warn_unused_suppressions=settings.warn_unused_suppressions,
-            rule_timeout=settings.rule_timeout or None,
-        )
-        return settings, Linter(registry, options)
+        return settings, Linter(registry, LintOptions.of(settings))
