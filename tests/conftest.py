@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import socket
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -140,3 +141,18 @@ def dask_client(dask_cluster: Any) -> Iterator[Any]:
 
     with Client(dask_cluster) as connected:  # type: ignore[no-untyped-call]
         yield connected
+
+
+def record_forks(monkeypatch: pytest.MonkeyPatch) -> list[int]:
+    """The pids of the children ``os.fork`` makes from now on in this test."""
+    forked: list[int] = []
+    real_fork = os.fork
+
+    def recorded_fork() -> int:
+        pid = real_fork()
+        if pid:
+            forked.append(pid)
+        return pid
+
+    monkeypatch.setattr(os, "fork", recorded_fork)
+    return forked

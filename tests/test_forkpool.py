@@ -12,6 +12,8 @@ import pytest
 
 from xodrlint.workers.forkpool import IN_FLIGHT, run_pieces
 
+from .conftest import record_forks
+
 pytestmark = pytest.mark.skipif(not hasattr(os, "fork"), reason="needs os.fork")
 
 
@@ -22,16 +24,7 @@ def _open_fds() -> set[str]:
 
 @pytest.fixture(autouse=True)
 def _nothing_left_behind(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
-    forked: list[int] = []
-    real_fork = os.fork
-
-    def recorded_fork() -> int:
-        pid = real_fork()
-        if pid:
-            forked.append(pid)
-        return pid
-
-    monkeypatch.setattr(os, "fork", recorded_fork)
+    forked = record_forks(monkeypatch)
     before = _open_fds()
     yield
     assert _open_fds() <= before, "a pipe was left open"

@@ -39,7 +39,7 @@ from xodrlint.formatters.jsonl import JsonlFormatter
 from xodrlint.workers import batch
 from xodrlint.workers.batch import ReportStream, Task, in_order, lint_tasks, stream_tasks
 
-from .conftest import REPO
+from .conftest import REPO, record_forks
 from .test_cli import BROKEN, CLEAN, OUTPUT_SCHEMA, cli
 
 TWO = REPO / "examples" / "two-findings.xodr"
@@ -102,20 +102,6 @@ def test_in_order_puts_a_stream_in_order_and_never_loses_a_file() -> None:
         in_order(iter([(0, first)]), 2)
 
 
-def _forked(monkeypatch: pytest.MonkeyPatch) -> list[int]:
-    forked: list[int] = []
-    real_fork = os.fork
-
-    def recorded_fork() -> int:
-        pid = real_fork()
-        if pid:
-            forked.append(pid)
-        return pid
-
-    monkeypatch.setattr(os, "fork", recorded_fork)
-    return forked
-
-
 def _marking_worker(task: Task) -> FileReport:
     """Lints as workers do, leaving a mark beside each file it linted."""
     task.path.with_suffix(".linted").touch()
@@ -128,7 +114,7 @@ def test_a_caller_that_stops_early_stops_the_workers_at_once(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, forked: bool
 ) -> None:
     monkeypatch.setattr(batch, "FORK_WORKERS", forked)
-    started = _forked(monkeypatch)
+    started = record_forks(monkeypatch)
     linter = Linter(default_registry(), LintOptions())
     stream = stream_tasks(linter, _tasks(_copies(tmp_path, 80)), 2, worker=_marking_worker)
     next(stream)
