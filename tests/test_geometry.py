@@ -153,8 +153,8 @@ def _geometry(xml: str) -> etree._Element:
     [
         ("", "geometry has no line, arc, spiral, poly3 or paramPoly3"),
         # 10 m at a 0.1 m radius: sixteen full circles, a data error rather than a track
-        ('<arc curvature="10"/>', "geometry turns 100 rad in 10 m: not drawn"),
-        ('<arc curvature="x"/>', "'arc' lacks a readable '@curvature'"),
+        ('<arc curvature="10"/>', "geometry turns 100 rad in 10 m, more than 64"),
+        ('<arc curvature="x"/>', "arc lacks a finite number in curvature ('x')"),
         (
             '<paramPoly3 aU="0" bU="1" cU="0" dU="0" aV="0" bV="0" cV="0" dV="0" pRange="meters"/>',
             "paramPoly3 has pRange 'meters', expected 'arcLength' or 'normalized'",
@@ -167,7 +167,7 @@ def test_unusable_records_say_why(xml: str, reason: str) -> None:
 
 def test_a_record_without_coordinates_says_which_are_missing() -> None:
     element = etree.fromstring('<geometry s="0" hdg="0" length="5"><line/></geometry>')
-    assert read_record(element) == "geometry lacks a readable '@x', '@y'"
+    assert read_record(element) == "geometry lacks a finite number in x (missing), y (missing)"
 
 
 def test_a_broken_record_leaves_the_others_drawn() -> None:
@@ -202,8 +202,9 @@ def test_records_written_out_of_order_are_taken_in_order_of_s() -> None:
     assert line.pose(5.0) == Pose(5.0, 0.0, 0.0)
 
 
-def test_a_record_lacking_its_length_and_more_names_what_the_fallback_cannot_give() -> None:
-    # the length falls back to the next record's start; what else is missing is named
+def test_a_record_lacking_its_length_and_more_names_every_number_it_lacks() -> None:
+    # the length would fall back to the next record's start, but the record cannot be
+    # drawn without its x: every number it lacks is named, the length too (TR014 says it)
     road = etree.fromstring(
         '<road id="9" length="20"><planView><geometry s="0" y="0" hdg="0"><line/></geometry>'
         '<geometry s="10" x="10" y="0" hdg="0" length="10"><line/></geometry>'
@@ -211,8 +212,8 @@ def test_a_record_lacking_its_length_and_more_names_what_the_fallback_cannot_giv
         "</planView></road>"
     )
     assert [p.message for p in reference_line(road).problems] == [
-        "geometry lacks a readable '@x'",
-        "geometry lacks a readable '@s', '@x', '@length'",
+        "geometry lacks a finite number in x (missing), length (missing)",
+        "geometry lacks a finite number in s (missing), x (missing), length (missing)",
     ]
 
 

@@ -27,6 +27,9 @@ MAX_COORDINATE: Final = 1e9
 #: The most a record may turn, in radians (about ten full circles): no track or road does,
 #: and a record that would is a data error, listed rather than drawn.
 MAX_TURN: Final = 64.0
+#: Headings beyond this many radians have lost their meaning to rounding (an ulp of 1e6
+#: is 1e-10 rad); a record heading so far is a data error, not a direction.
+MAX_HEADING: Final = 1e6
 
 
 class Pose(NamedTuple):

@@ -35,7 +35,7 @@ _COEFFICIENTS: Final = {
 
 
 class GeometryProblem(NamedTuple):
-    """A record (or a road) whose geometry cannot be drawn, and why."""
+    """A record (or a road) whose geometry cannot be drawn or judged, and why."""
 
     element: etree._Element
     road_id: str | None
@@ -46,24 +46,31 @@ class ReferenceLine:
     """The usable records of one road, in order of s (a plain class, as the records are:
     see :class:`~xodrlint.geometry.curves.Record`)."""
 
-    __slots__ = ("guessed", "problems", "records", "starts")
+    __slots__ = ("elements", "guessed", "problems", "records", "starts")
 
     def __init__(
         self,
         records: tuple[Record, ...],
         problems: tuple[GeometryProblem, ...] = (),
         *,
-        guessed: bool = False,
+        guessed: tuple[GeometryProblem, ...] = (),
+        elements: tuple[etree._Element, ...] = (),
     ) -> None:
         starts = [record.s for record in records]
         if starts != sorted(starts):  # a plan view written out of order
-            records = tuple(sorted(records, key=lambda record: record.s))
-            starts.sort()
+            order = sorted(range(len(records)), key=starts.__getitem__)  # stable, as s is
+            records = tuple(records[index] for index in order)
+            if elements:
+                elements = tuple(elements[index] for index in order)
+            starts = [starts[index] for index in order]
         self.records = records
         self.problems = problems
         self.starts = starts
-        #: A record's own length was unreadable and taken up to the next record or the
-        #: road's end: good enough to draw, not to judge.
+        #: The ``geometry`` element of each record, in the same order (empty for a line
+        #: made of records alone).
+        self.elements = elements
+        #: Records whose own length was unreadable and taken up to the next record or the
+        #: road's end, each as a problem: good enough to draw, not to judge.
         self.guessed = guessed
 
     def __repr__(self) -> str:
@@ -95,29 +102,40 @@ class ReferenceLine:
         return self.records[0].s, last.s + last.length
 
 
+def geometries(road: etree._Element) -> list[etree._Element]:
+    """The ``geometry`` records of ``road``'s ``planView``, in document order."""
+    # iterchildren, not find and findall: a third faster, and a railway reads every track
+    plan_view = next(road.iterchildren("planView"), None)
+    return list(plan_view.iterchildren("geometry")) if plan_view is not None else []
+
+
 def reference_line(road: etree._Element) -> ReferenceLine:
     """Every usable record of ``road``'s ``planView``; the others as problems."""
     road_id = road.get("id")
     records: list[Record] = []
+    elements: list[etree._Element] = []
     problems: list[GeometryProblem] = []
-    # iterchildren, not find and findall: a third faster, and a railway reads every track
-    plan_view = next(road.iterchildren("planView"), None)
-    geometries = list(plan_view.iterchildren("geometry")) if plan_view is not None else []
-    if not geometries:
+    guessed: list[GeometryProblem] = []
+    found = geometries(road)
+    if not found:
         problems.append(GeometryProblem(road, road_id, "road has no planView geometry"))
-    guessed = False
-    for index, element in enumerate(geometries):
+    for index, element in enumerate(found):
         record = read_record(element)
         if isinstance(record, str) and number(element, "length") is None:
             # drawn up to the next record or the road's end (looked up only on failure)
-            following = geometries[index + 1] if index + 1 < len(geometries) else None
+            why = record
+            following = found[index + 1] if index + 1 < len(found) else None
             record = read_record(element, _length_fallback(element, following, road))
-            guessed = True
+            if not isinstance(record, str):
+                guessed.append(GeometryProblem(element, road_id, why))
         if isinstance(record, str):
             problems.append(GeometryProblem(element, road_id, record))
         else:
             records.append(record)
-    return ReferenceLine(tuple(records), tuple(problems), guessed=guessed)
+            elements.append(element)
+    return ReferenceLine(
+        tuple(records), tuple(problems), guessed=tuple(guessed), elements=tuple(elements)
+    )
 
 
 def _length_fallback(
@@ -129,43 +147,74 @@ def _length_fallback(
     return end - start if start is not None and end is not None and end > start else None
 
 
+def curve_element(element: etree._Element) -> etree._Element | None:
+    """The curve a ``geometry`` record holds (its first ``line``, ``arc``, ... child)."""
+    for curve in element:
+        if curve.tag in CURVE_TAGS:
+            return curve
+    return None
+
+
+def written(element: etree._Element, attribute: str) -> str:
+    """An attribute's value for messages, as written (quoted), or ``missing``."""
+    raw = element.get(attribute)
+    return "missing" if raw is None else f"'{raw}'"
+
+
+def unreadable_numbers(element: etree._Element, names: Sequence[str]) -> str:
+    """Each of ``names`` whose value is no finite number, with the value as written
+    (``x ('INF'), length (missing)``); empty when every one is a finite number."""
+    return ", ".join(
+        f"{name} ({written(element, name)})" for name in names if number(element, name) is None
+    )
+
+
 def read_record(element: etree._Element, length_fallback: float | None = None) -> Record | str:
     """The record of a ``geometry`` element, or why it cannot be drawn."""
     s, x, y, hdg, length = numbers(element, _RECORD_ATTRIBUTES)
     if length is None:
         length = length_fallback
-    if s is None or x is None or y is None or hdg is None or length is None:
-        values = (s, x, y, hdg, length)
-        missing = [n for n, v in zip(_RECORD_ATTRIBUTES, values, strict=True) if v is None]
-        return "geometry lacks a readable " + ", ".join(f"'@{name}'" for name in missing)
+    curve = curve_element(element)
+    if s is None or x is None or y is None or hdg is None or length is None or curve is None:
+        return _unreadable_record(element, curve)
     if length < 0:
-        return f"geometry has a negative length ({length:g})"
-    for curve in element:
-        if curve.tag in CURVE_TAGS:
-            break
-    else:
-        return "geometry has no line, arc, spiral, poly3 or paramPoly3"
+        return f"geometry has a negative length ({written(element, 'length')})"
     record = _curve(curve, s, x, y, hdg, length)
     if isinstance(record, str):
         return record
     bound = record.max_curvature()
     if bound is not None and bound * length > MAX_TURN:
-        return f"geometry turns {bound * length:.3g} rad in {length:g} m: not drawn"
+        return f"geometry turns {bound * length:.3g} rad in {length:g} m, more than {MAX_TURN:g}"
     # finite curvatures over a tiny length can give a rate of change that overflows
     if (
         isinstance(record, Spiral)
         and length > 0
         and not math.isfinite((record.curv_end - record.curv_start) / length)
     ):
-        return f"spiral's curvature changes too fast over {length:g} m: not drawn"
+        return f"spiral's curvature changes too fast over {length:g} m: its rate overflows"
     return record
+
+
+def _unreadable_record(element: etree._Element, curve: etree._Element | None) -> str:
+    """Every reason a record's numbers cannot be read: its own attributes (its length too,
+    where a fallback stood in), its curve element and that curve's coefficients."""
+    reasons = []
+    bad = unreadable_numbers(element, _RECORD_ATTRIBUTES)
+    if bad:
+        reasons.append(f"geometry lacks a finite number in {bad}")
+    if curve is None:
+        reasons.append("geometry has no line, arc, spiral, poly3 or paramPoly3")
+    else:
+        coefficients = _coefficients(curve, _COEFFICIENTS.get(str(curve.tag), ()))
+        if isinstance(coefficients, str):
+            reasons.append(coefficients)
+    return "; ".join(reasons)
 
 
 def _coefficients(element: etree._Element, names: Sequence[str]) -> list[float] | str:
     found = numbers(element, names)
-    bad = [name for name, value in zip(names, found, strict=True) if value is None]
-    if bad:
-        return f"'{element.tag}' lacks a readable " + ", ".join(f"'@{name}'" for name in bad)
+    if None in found:
+        return f"{element.tag} lacks a finite number in {unreadable_numbers(element, names)}"
     return found  # type: ignore[return-value]  # no None: checked
 
 

@@ -11,10 +11,11 @@ TR002).
 
 Geometry is evaluated only where a rule asks (a switch point, a road's end): a binary
 search for the record and one evaluation, never a walk along a road. A road's plan view
-is read the first time it is asked for, once per file (:class:`TrackGeometry` is shared
-through :meth:`~xodrlint.model.RailNetwork.shared`). A road whose plan view cannot be
-evaluated (no geometry, an unreadable or zero-length record, a start or heading no map
-holds, numbers that overflow) has no track points: the rules stay silent on it.
+is read and judged the first time it is asked for, once per file (:class:`TrackGeometry`
+is shared through :meth:`~xodrlint.model.RailNetwork.shared`). A road whose plan view
+cannot be evaluated (:mod:`~xodrlint.geometry.evaluable`: no geometry, an unreadable or
+zero-length record, a start or heading no map holds, numbers that overflow) has no track
+points: the rules stay silent on it, and TR014 says why.
 """
 
 from __future__ import annotations
@@ -23,14 +24,11 @@ import math
 from collections.abc import Sequence
 from typing import Final, NamedTuple
 
-from xodrlint.geometry.curves import MAX_COORDINATE, Record
-from xodrlint.geometry.planview import ReferenceLine, reference_line
+from xodrlint.geometry.curves import MAX_COORDINATE
+from xodrlint.geometry.evaluable import PlanView, judge_plan_view
+from xodrlint.geometry.planview import ReferenceLine
 from xodrlint.model import Cubic, LaneSection, RailNetwork, Road
 from xodrlint.model.lane_profiles import S_TOLERANCE, centre_at
-
-#: Headings beyond this many radians have lost their meaning to rounding (an ulp of 1e6
-#: is 1e-10 rad); a record heading so far is a data error, not a direction.
-MAX_HEADING: Final = 1e6
 
 
 class TrackPoint(NamedTuple):
@@ -69,7 +67,7 @@ class TrackGeometry:
 
     def __init__(self, network: RailNetwork) -> None:
         del network  # taken as RailNetwork.shared makes it; roads are passed per call
-        self._lines: dict[Road, ReferenceLine | None] = {}
+        self._plan_views: dict[Road, PlanView] = {}
         # per lane layout (a template road): the track's t where it is the same all along
         self._constant_lateral: dict[Road, float | None] = {}
         # a switch's point is asked for by the map as well as the rules
@@ -119,18 +117,20 @@ class TrackGeometry:
             return constant
         return _lateral_at(sections, template, s)
 
-    def reference_line(self, road: Road) -> ReferenceLine | None:
-        """The road's reference line when every record of it can be evaluated."""
+    def plan_view(self, road: Road) -> PlanView:
+        """The road's plan view, judged: its reference line and record ends when every
+        record can be evaluated, else each record (or the road) that cannot be, and why."""
         try:
-            return self._lines[road]
+            return self._plan_views[road]
         except KeyError:
-            line = reference_line(road.element)
-            # the map draws a record whose own length is unreadable up to the next one
-            # (guessed); a rule judges nothing it would have to guess
-            usable = line.records and not line.problems and not line.guessed
-            found = line if usable and all(map(_evaluable, line.records)) else None
-            self._lines[road] = found
+            found = self._plan_views[road] = judge_plan_view(road.element)
             return found
+
+    def reference_line(self, road: Road) -> ReferenceLine | None:
+        """The road's reference line when every record of it can be evaluated (the map
+        draws a record whose own length is unreadable up to the next one; a rule judges
+        nothing it would have to guess)."""
+        return self.plan_view(road).line
 
 
 def _lateral_at(sections: Sequence[LaneSection], template: Road, s: float) -> float | None:
@@ -181,17 +181,6 @@ def _constant_from(cubic: Cubic, start: float, origin: float) -> bool:
     """Whether ``cubic`` is one constant that holds from ``start`` on (its own start,
     relative to ``origin``, at or before it)."""
     return cubic.b == 0 and cubic.c == 0 and cubic.d == 0 and cubic.start + origin <= start
-
-
-def _evaluable(record: Record) -> bool:
-    """A record of positive length whose start is a place on a map and a direction: the
-    schema requires ``length > 0``; anything else is a value XS006 reports."""
-    return (
-        record.length > 0
-        and abs(record.x) < MAX_COORDINATE
-        and abs(record.y) < MAX_COORDINATE
-        and abs(record.hdg) < MAX_HEADING
-    )
 
 
 def _section_at(sections: Sequence[LaneSection], s: float) -> LaneSection | None:
