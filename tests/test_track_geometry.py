@@ -246,6 +246,11 @@ _HOSTILE: dict[str, dict[str, str]] = {
 }
 
 
+#: The hostile values in the plan view: TR014 says the track is not judged, on the record.
+_PLAN_VIEW_CASES = {case for case, values in _HOSTILE.items() if set(values) - {"length"} & {
+    "x", "hdg", "glength", "curve"}}  # fmt: skip
+
+
 @pytest.mark.parametrize("case", sorted(_HOSTILE))
 def test_geometry_that_cannot_be_evaluated_gives_silence(case: str) -> None:
     values = {**_NORMAL, **_HOSTILE[case]}
@@ -253,8 +258,11 @@ def test_geometry_that_cannot_be_evaluated_gives_silence(case: str) -> None:
     report = lint_bytes(data.encode(), "hostile.xodr", select=["SW011", "SW012", "TR"])
     assert not report.internal_errors, report.internal_errors
     assert report.error is None
-    # the road with the bad value is silenced; road 1's own track is fine
-    assert report.findings == ()
+    # the road with the bad value is silenced; road 1's own track is fine. Where the bad
+    # value is in the plan view, TR014 says why, once, on the record (line 16); a bad lane
+    # is the lane rules' (RL002, RL003) to report
+    expected = [(16, "TR014")] if case in _PLAN_VIEW_CASES else []
+    assert [(f.line, f.code) for f in report.findings] == expected
 
 
 def test_the_normal_case_of_the_hostile_ones_is_judged() -> None:

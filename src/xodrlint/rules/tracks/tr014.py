@@ -1,0 +1,138 @@
+"""TR014 track-geometry-unreadable: a track's geometry cannot be evaluated, so it is not judged.
+
+## What it does
+Reports each `geometry` record of a road with a rail or tram lane that keeps its plan
+view from being evaluated, naming the attributes at fault with their values as written:
+a parameter that is missing, no number or no finite number (`x="INF"`,
+`curvStart="NaN"`, no `@length`, the curve's own coefficients included), no `line`,
+`arc`, `spiral`, `poly3` or `paramPoly3`, a length that is not above 0, an unknown
+`paramPoly3/@pRange`, a start 1e9 m or more from the origin or a heading of 1e6 rad or
+more, a curve that turns more than 64 rad or whose numbers overflow on the way to its
+end. A track with no `planView` geometry at all is reported on the `road`. These are
+exactly the records for which the geometry rules give up on a track: every track they
+are silent on is reported here.
+
+Also reports each `elevationProfile/elevation` and `lateralProfile/superelevation` entry
+of such a road with a missing, non-numeric or non-finite `s`, `a`, `b`, `c` or `d`.
+Each record or entry is reported once, whatever else is wrong with it.
+
+## Why is this bad?
+A value the schema accepts is not always one a reader can compute with: `INF` and `NaN`
+are valid `xs:double`s, and ASAM OpenDRIVE requires a geometry record's length to be
+above 0 but gives no bound on coordinates. A track whose reference line cannot be
+computed has no place on the ground: no tool can run a train along it, and no rule can
+tell whether its switches, joints and curves fit. Saying so is better than silence.
+
+## Example
+```xml
+<planView>
+  <geometry s="0" x="0" y="0" hdg="0" length="60"><line/></geometry>
+  <geometry s="60" x="60" y="0" hdg="0" length="40"> <!-- expect: TR014 -->
+    <spiral curvStart="0" curvEnd="NaN"/>
+  </geometry>
+</planView>
+```
+
+Use instead:
+```xml
+<planView>
+  <geometry s="0" x="0" y="0" hdg="0" length="60"><line/></geometry>
+  <geometry s="60" x="60" y="0" hdg="0" length="40">
+    <spiral curvStart="0" curvEnd="0.002"/>
+  </geometry>
+</planView>
+```
+
+## Related rules
+A track whose plan view TR014 reports is not judged by SW011 and SW012 (its switch
+points), TR001 and TR002 (its joints), TR008 (its continuity), TR009 (its length) and
+TR013 (its curve radii); an unreadable elevation entry silences TR010 and TR011 there,
+an unreadable superelevation entry TR012. A missing or non-numeric value is also the
+schema's (XS006, with the official schema): TR014 adds what it keeps from being judged.
+
+## References
+- ASAM OpenDRIVE 1.7, chapter "Geometry" (geometry records), chapter "Roads" (elevation
+  and superelevation), and the schema (`xs:double`, `t_grZero`); rule UID
+  `xodrlint:xodr:1.4.0:road.railroad.track.geometry_readable`
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import TYPE_CHECKING, Final
+
+from lxml import etree
+
+from xodrlint.findings import Hit, Severity
+from xodrlint.model import RailNetwork, Road, number, numbers
+from xodrlint.rules import rule
+from xodrlint.rules._shared import metres, quoted
+from xodrlint.rules.tracks._planview import track_plan_views
+
+if TYPE_CHECKING:
+    from xodrlint.geometry import GeometryProblem
+
+#: The profile entries read, by profile, and what a bad one keeps from being judged.
+_PROFILES: Final = (
+    ("elevationProfile", "elevation", "its gradient and elevation steps are"),
+    ("lateralProfile", "superelevation", "its cant is"),
+)
+_ENTRY_ATTRIBUTES: Final = ("s", "a", "b", "c", "d")
+_NOT_JUDGED: Final = (
+    "its plan view cannot be evaluated, so its switch points, joints, continuity, "
+    "length and curve radii are not judged"
+)
+
+
+@rule(
+    code="TR014",
+    name="track-geometry-unreadable",
+    uid="xodrlint:xodr:1.4.0:road.railroad.track.geometry_readable",
+    severity=Severity.ERROR,
+)
+def track_geometry_unreadable(network: RailNetwork) -> Iterator[Hit]:
+    for road, view in track_plan_views(network):
+        for problem in view.problems:
+            yield Hit(problem.element, f"{_where(road, problem)}; {_NOT_JUDGED}")
+        yield from _unreadable_entries(road)
+
+
+def _where(road: Road, problem: GeometryProblem) -> str:
+    """The track, the record by its s (or its place in the plan view), and why."""
+    track = f"track {quoted(road.id)}"
+    element = problem.element
+    if element is road.element:
+        return f"{track}: {problem.message}"
+    # the reason's own subject is the record (``geometry lacks ...``): said once
+    subject, _, rest = problem.message.partition(" ")
+    if subject == element.tag:
+        return f"{track}, {_entry(element)} {rest}"
+    return f"{track}, {_entry(element)}: {problem.message}"
+
+
+def _entry(element: etree._Element) -> str:
+    """``geometry at s=20``; ``elevation 3`` where its s is unreadable."""
+    s = number(element, "s")
+    if s is not None:
+        return f"{element.tag} at s={metres(s)}"
+    parent = element.getparent()
+    siblings = list(parent.iterchildren(str(element.tag))) if parent is not None else [element]
+    return f"{element.tag} {siblings.index(element) + 1}"
+
+
+def _unreadable_entries(road: Road) -> Iterator[Hit]:
+    """Each elevation and superelevation entry with a number that is missing, no number
+    or no finite number, read here from its attributes (the vertical rules read the same
+    entries and stay silent on these)."""
+    from xodrlint.geometry.planview import unreadable_numbers
+
+    for profile_tag, entry_tag, judged in _PROFILES:
+        for profile in road.element.iterchildren(profile_tag):
+            for entry in profile.iterchildren(entry_tag):
+                if None in numbers(entry, _ENTRY_ATTRIBUTES):
+                    yield Hit(
+                        entry,
+                        f"track {quoted(road.id)}, {_entry(entry)}: lacks a finite number "
+                        f"in {unreadable_numbers(entry, _ENTRY_ATTRIBUTES)}; {judged} not "
+                        "judged there",
+                    )
