@@ -18,6 +18,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from lxml import etree
 
+from xodrlint.api import lint_bytes
 from xodrlint.cli.map import render_map
 from xodrlint.document import load_bytes
 from xodrlint.findings import Finding, Severity
@@ -309,6 +310,39 @@ def test_geometry_findings_are_placed_at_the_points_their_messages_name(
     case: str, xpath: str, expected: tuple[float, float]
 ) -> None:
     assert _placed(xpath, REPO / "rules" / case) == expected
+
+
+@pytest.mark.parametrize(
+    ("case", "code", "expected"),
+    [
+        # a gap between records at the later record's start
+        ("TR008/invalid_gap_between_records.xodr", "TR008", [(100.0, 0.15)]),
+        # a length that is not the plan view's at the plan view's end, not the middle (50, 0)
+        ("TR009/invalid_length_longer_than_plan_view.xodr", "TR009", [(100.0, 0.0)]),
+        # profile entries on the reference line at their s; one whose s is no number by its
+        # road (the middle)
+        ("TR014/invalid_profile_entries.xodr", "TR014", [(40.0, 0.0), (50.0, 0.0), (50.0, 0.0)]),
+        # an unreadable record at its start; one whose start is no number on a track with no
+        # other record has no place on the map (the page counts it as not placed)
+        (
+            "families/track-geometry/invalid_unreadable_plan_views.xodr",
+            "TR014",
+            [(65.3, 32.9), None],
+        ),
+    ],
+)
+def test_a_track_s_plan_view_findings_are_placed_where_the_defect_is(
+    case: str, code: str, expected: list[tuple[float, float] | None]
+) -> None:
+    path = REPO / "rules" / case
+    report = lint_bytes(path.read_bytes(), path.name, select=[code])
+    doc = load_bytes(path.read_bytes(), path.name)
+    network = build_network(doc.root)
+    locator = Locator(doc, network, Placer(network))
+    placed = [locator.place(finding) for finding in report.findings]
+    assert [
+        (round(point[0], 6), round(point[1], 6)) if point is not None else None for point in placed
+    ] == expected
 
 
 def test_platform_bars_lie_on_their_side_of_the_track() -> None:

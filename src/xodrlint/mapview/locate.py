@@ -1,12 +1,15 @@
 """Where a finding goes on the map: the element its XPath names, placed by what it is (a
-switch at its point, a segment at its middle, a lane or lane section at its start, a road
-link at the road end it joins, a road at its middle), or else by its nearest ancestor
-that has a place. Switch tracks and road links are placed at the track points the
-track-geometry rules name in their messages."""
+switch at its point, a segment at its middle, a lane or lane section at its start, a
+geometry record at its start, an elevation or superelevation entry on the reference line
+at its s, a road link at the road end it joins, a road at its middle, or at its plan
+view's end for a finding about its length), or else by its nearest ancestor that has a
+place. Switch tracks and road links are placed at the track points the track-geometry
+rules name in their messages."""
 
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Final
 
 from lxml import etree
 
@@ -15,6 +18,10 @@ from xodrlint.findings import Finding
 from xodrlint.geometry.tracks import TrackGeometry
 from xodrlint.mapview.place import Placer, Point, geometry_start
 from xodrlint.model import RailNetwork, Road, Segment, Switch, number
+
+#: Rules whose finding on a road is about where the road ends (its length against its
+#: plan view's): drawn at the plan view's end, the place their message names.
+AT_ROAD_END: Final = frozenset({"TR009"})
 
 
 class Locator:
@@ -38,6 +45,8 @@ class Locator:
             "lane": self._lane,
             "laneSection": self._lane_section,
             "geometry": geometry_start,
+            "elevation": self._profile_entry,
+            "superelevation": self._profile_entry,
             "predecessor": self._link,
             "successor": self._link,
             "road": self._road,
@@ -57,7 +66,14 @@ class Locator:
 
     def place(self, finding: Finding) -> Point | None:
         element = self.element(finding.xpath)
-        return self.position(element) if element is not None else None
+        if element is None:
+            return None
+        if finding.code in AT_ROAD_END and element.tag == "road":
+            road = self._placer.road_of(element)
+            end = self._placer.road_end(road) if road is not None else None
+            if end is not None:
+                return end
+        return self.position(element)
 
     def position(self, element: etree._Element) -> Point | None:
         node: etree._Element | None = element
@@ -118,6 +134,12 @@ class Locator:
             if section.element is element:
                 return self._placer.section_start(road, section)
         return None
+
+    def _profile_entry(self, element: etree._Element) -> Point | None:
+        """An elevation or superelevation entry on the reference line where it starts."""
+        road = self._road_above(element)
+        s = number(element, "s")
+        return self._placer.point(road, s) if road is not None and s is not None else None
 
     def _road(self, element: etree._Element) -> Point | None:
         road = self._placer.road_of(element)

@@ -91,6 +91,14 @@ class Placer:
             return None
         return self.point(road, 0.5 * (span[0] + span[1]))
 
+    def road_end(self, road: Road) -> Point | None:
+        """Where the road's plan view ends (which may not be where its length says)."""
+        line = self.line(road)
+        span = line.s_range
+        pose = line.pose(span[1]) if span is not None else None
+        point = (pose.x, pose.y) if pose is not None else None
+        return point if point is not None and drawable(point) else None
+
     def lane_start(self, road: Road, lane_element: etree._Element) -> Point | None:
         """A lane's centre at the start of its lane section (the section's start if the
         centre cannot be computed)."""
