@@ -18,7 +18,7 @@ from typing import Final, NamedTuple
 
 from lxml import etree
 
-from xodrlint.geometry.curves import MAX_COORDINATE, MAX_HEADING, Pose, Record
+from xodrlint.geometry.curves import MAX_COORDINATE, MAX_HEADING, ParamPoly3, Poly3, Pose, Record
 from xodrlint.geometry.planview import (
     GeometryProblem,
     ReferenceLine,
@@ -53,11 +53,11 @@ def judge_plan_view(road: etree._Element) -> PlanView:
         reasons.setdefault(problem.element, []).append(problem.message)
     ends: list[tuple[Pose, Pose]] = []
     for record, element in zip(line.records, line.elements, strict=True):
-        evaluated = _evaluate(record, element)
-        if isinstance(evaluated, str):
-            reasons.setdefault(element, []).append(evaluated)
+        found = _ends(record)
+        if found is None:
+            reasons.setdefault(element, []).append(_why_not(record, element))
         else:
-            ends.append(evaluated)
+            ends.append(found)
     if not reasons:
         return PlanView(line, (), tuple(ends))
     order = {element: index for index, element in enumerate(geometries(road))}
@@ -69,8 +69,29 @@ def judge_plan_view(road: etree._Element) -> PlanView:
     return PlanView(None, problems)
 
 
-def _evaluate(record: Record, element: etree._Element) -> tuple[Pose, Pose] | str:
-    """The start and end pose of a record that was read, or why the rules cannot use it."""
+def _ends(record: Record) -> tuple[Pose, Pose] | None:
+    """The start and end pose of a record the rules can use; ``None`` for one they cannot
+    (a railway's every record passes here: the common case costs two evaluations)."""
+    x, y, hdg = record.x, record.y, record.hdg
+    if not (
+        record.length > 0
+        and abs(x) < MAX_COORDINATE
+        and abs(y) < MAX_COORDINATE
+        and abs(hdg) < MAX_HEADING
+    ):
+        return None
+    try:
+        # a line, an arc and a spiral start at their own x, y and hdg; a poly3's a and b
+        # and a paramPoly3's aU, aV, bU, bV move and turn the start
+        start = record.pose_at(0.0) if isinstance(record, Poly3 | ParamPoly3) else Pose(x, y, hdg)
+        end = record.end
+    except (ArithmeticError, ValueError):
+        return None
+    return (start, end) if _on_map(start) and _on_map(end) else None
+
+
+def _why_not(record: Record, element: etree._Element) -> str:
+    """Why the rules cannot use a record that was read (see :func:`_ends`)."""
     reasons = []
     if not record.length > 0:  # a negative one is not even read
         reasons.append(f"geometry has length {written(element, 'length')}, not above 0")
@@ -82,18 +103,12 @@ def _evaluate(record: Record, element: etree._Element) -> tuple[Pose, Pose] | st
         reasons.append(f"geometry has hdg {written(element, 'hdg')}, {_HEADING_LIMIT} rad or more")
     if reasons:
         return "; ".join(reasons)
-    try:
-        ends: tuple[Pose, Pose] | None = record.pose_at(0.0), record.end
-    except (ArithmeticError, ValueError):
-        ends = None
-    if ends is None or not (_on_map(ends[0]) and _on_map(ends[1])):
-        curve = curve_element(element)
-        kind = curve.tag if curve is not None else "geometry"
-        return (
-            f"{kind}'s numbers overflow: it starts or ends {_COORDINATE_LIMIT} m or more "
-            "from the origin, or at no number"
-        )
-    return ends
+    curve = curve_element(element)
+    kind = curve.tag if curve is not None else "geometry"
+    return (
+        f"{kind}'s numbers overflow: it starts or ends {_COORDINATE_LIMIT} m or more from "
+        "the origin, or at no number"
+    )
 
 
 def _on_map(pose: Pose) -> bool:
