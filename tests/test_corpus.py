@@ -78,3 +78,24 @@ def test_sumo_rail_export_puts_the_reference_line_at_the_lane_edge() -> None:
 def test_large_maps(name: str, expected: dict[str, int]) -> None:
     findings = _lint(LARGE / name, official=False, select=RAILROAD_FAMILIES)
     assert Counter(code for _, code in findings) == expected
+
+
+#: What TR008, TR009 and TR014 find in the corpus, each checked by hand: SUMO writes a
+#: junction's connecting track at least 0.1 m long by its @length whatever its plan view
+#: (1e-8 m in Braunschweig, 0.087 m in Berlin): true TR009 findings, nothing else.
+PLAN_VIEW_FINDINGS = {
+    "SUMO-gen_bs3d_Braunschweig.xodr": {"TR009": 6},
+    "SUMO-gen_DRT_Berlin-Adlershof.xodr": {"TR009": 1},
+}
+
+
+@pytest.mark.parametrize(
+    "path",
+    sorted(CORPUS_RAIL.glob("*.xodr")) + sorted(LARGE.glob("*.xodr")),
+    ids=lambda path: path.name,
+)
+@needs_shared
+def test_a_track_s_own_plan_view_in_the_corpus(path: Path) -> None:
+    # every ASAM example's records join to a micrometre and its lengths are exact
+    findings = _lint(path, official=False, select=("TR008", "TR009", "TR014"))
+    assert Counter(code for _, code in findings) == PLAN_VIEW_FINDINGS.get(path.name, {})
