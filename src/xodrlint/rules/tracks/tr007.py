@@ -68,9 +68,17 @@ def rail_lane_not_continued(network: RailNetwork) -> Iterator[Hit]:
     judged = track_network(network)
     # a lane end whose lane links TR006 reports, or that this rule reported already
     settled: set[tuple[int, str]] = set()
+    # road ends where a lane link names a lane that is not there: what it joins is unknown
+    unknown_ends: set[tuple[int, str]] = set()
     for target in judged.lane_links:
         if target.lane is None:
-            settled.add((id(target.source.element), END_OF[target.kind]))
+            end = END_OF[target.kind]
+            settled.add((id(target.source.element), end))
+            unknown_ends.add((id(target.source.road.element), end))
+            crossing = target.crossing
+            if crossing is not None and crossing.target is not None:
+                contact = crossing.link.contact_point or ""
+                unknown_ends.add((id(crossing.target.element), contact))
     for target in judged.lane_links:
         end = END_OF[target.kind]
         key = (id(target.source.element), end)
@@ -84,11 +92,14 @@ def rail_lane_not_continued(network: RailNetwork) -> Iterator[Hit]:
             f"{target.source.describe()} continues as {target.lane.type or 'untyped'} "
             f"lane {target.lane.id} at {target.where}: the track turns into a road lane",
         )
-    yield from _unjoined_lane_ends(network, judged.joints, settled)
+    yield from _unjoined_lane_ends(network, judged.joints, settled, unknown_ends)
 
 
 def _unjoined_lane_ends(
-    network: RailNetwork, joints: list[Joint], settled: set[tuple[int, str]]
+    network: RailNetwork,
+    joints: list[Joint],
+    settled: set[tuple[int, str]],
+    unknown_ends: set[tuple[int, str]],
 ) -> Iterator[Hit]:
     """The rail lanes of a road end that none of the joints at that end joins to a rail
     lane. A road end in a junction is reached by several connecting roads, each joining
@@ -104,8 +115,8 @@ def _unjoined_lane_ends(
             entry = at_end.setdefault((id(road.element), end), (road, end, [], set()))
             entry[2].append(joint)
             entry[3].update(joined)
-    for road, end, its_joints, joined in at_end.values():
-        if not all(joint.answered for joint in its_joints):
+    for road_end, (road, end, its_joints, joined) in at_end.items():
+        if road_end in unknown_ends or not all(joint.answered for joint in its_joints):
             continue
         for lane_end in rail_lanes_at(road, end):
             key = (id(lane_end.element), end)
