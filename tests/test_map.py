@@ -303,6 +303,25 @@ def test_findings_are_placed_by_their_element(
             "/OpenDRIVE/road[@id='2']/link/predecessor",
             (100.0, 1.0),
         ),
+        # TR006: a lane's successor where its lane section ends (s=50 of road 1, inside
+        # the road; the lane's centre is on the reference line)
+        (
+            "TR006/invalid_next_section_lane_missing.xodr",
+            "/OpenDRIVE/road[@id='1']/lanes/laneSection[1]/right/lane[@id='-1']/link/successor[@id='-3']",
+            (50.0, 0.0),
+        ),
+        # TR006: a junction's laneLink where it enters its connecting road (road 2's start)
+        (
+            "TR006/invalid_junction_lane_link_from_missing.xodr",
+            "/OpenDRIVE/junction[@id='5']/connection[@id='0']/laneLink",
+            (100.0, 0.0),
+        ),
+        # TR003 to TR005: a link at the end of its road
+        (
+            "TR005/invalid_no_contact_point.xodr",
+            "/OpenDRIVE/road[@id='1']/link/successor",
+            (100.0, 0.0),
+        ),
     ],
 )
 def test_geometry_findings_are_placed_at_the_points_their_messages_name(

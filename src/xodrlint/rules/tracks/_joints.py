@@ -8,9 +8,7 @@
   Its **joined lanes** are the pairs of rail/tram lanes of the two end lane sections that
   a lane link pairs (either side's), or the two single rail/tram lanes when each section
   holds exactly one and no lane link of theirs points elsewhere (TR001, TR002, TR007).
-- Where each rail lane's lane links point: the neighbouring lane section of the same
-  road, or at the road's end the joined road's section at the contact point (TR006,
-  TR007).
+- Where each rail lane's lane links point (:mod:`._lane_links`: TR006, TR007).
 
 Lanes are read from each road's lane template (:attr:`~xodrlint.model.Road.lane_template`:
 a railway repeats a few lane layouts over thousands of tracks); a finding about a lane is
@@ -124,46 +122,6 @@ class Joint(NamedTuple):
         )
 
 
-class LaneLinkTarget(NamedTuple):
-    """Where a rail lane's lane link points: a lane section, and the lane it names there
-    (``None``: the section has no lane of that id)."""
-
-    source: LaneEnd
-    kind: str
-    """``predecessor`` or ``successor``."""
-    position: int
-    """Which of the lane's links of that kind (0 for the first)."""
-    link: LaneLink
-    road: Road
-    section: LaneSection
-    where: str
-    """How messages name the section pointed into."""
-    lane: Lane | None
-    crossing: TrackLink | None
-    """The road link the lane link crosses at its road's end (``None`` inside a road)."""
-
-
-class TrackNetwork:
-    """The judged links, joints and lane links of one file (see the module docstring);
-    made once per file through :meth:`~xodrlint.model.RailNetwork.shared`."""
-
-    def __init__(self, network: RailNetwork) -> None:
-        self._network = network
-        self.links: list[TrackLink] = list(_judged_links(network))
-        self.joints: list[Joint] = list(_joints(network, self.links))
-        self.lane_links: list[LaneLinkTarget] = list(_lane_link_targets(network, self.links))
-
-
-def track_network(network: RailNetwork) -> TrackNetwork:
-    """The one :class:`TrackNetwork` of ``network``'s file."""
-    return network.shared(TrackNetwork)
-
-
-def joints(network: RailNetwork) -> list[Joint]:
-    """Each joint between two tracks, once (see :class:`TrackNetwork`)."""
-    return track_network(network).joints
-
-
 def end_section(road: Road, end: str) -> tuple[int, LaneSection] | None:
     """The lane section of ``road`` (its template's) at ``end``, with its index."""
     sections = road.lane_template.lane_sections
@@ -179,7 +137,7 @@ def lane_ids(section: LaneSection) -> str:
     return ", ".join(str(lane_id) for lane_id in ids) or "none"
 
 
-def _judged_links(network: RailNetwork) -> Iterator[TrackLink]:
+def judged_links(network: RailNetwork) -> Iterator[TrackLink]:
     found: list[TrackLink] = []
     for road in network.rail_roads:
         for link in road.links:
@@ -265,7 +223,7 @@ def _connects(junction: Junction, road: Road) -> bool:
     return any(connection.connecting_road == road.id for connection in junction.connections)
 
 
-def _joints(network: RailNetwork, links: Sequence[TrackLink]) -> Iterator[Joint]:
+def find_joints(network: RailNetwork, links: Sequence[TrackLink]) -> Iterator[Joint]:
     tracks: TrackGeometry | None = None
     seen: set[frozenset[tuple[int, str]]] = set()
     for judged in links:
@@ -351,67 +309,3 @@ def _point(tracks: TrackGeometry, lane_end: LaneEnd, end: str) -> TrackPoint | N
     road = lane_end.road
     s = 0.0 if end == "start" else (road.length if road.length is not None else math.nan)
     return tracks.lane_point(road, lane_end.section, lane_end.lane, s)
-
-
-def _lane_link_targets(
-    network: RailNetwork, links: Sequence[TrackLink]
-) -> Iterator[LaneLinkTarget]:
-    """Where each lane link of each rail lane of each track points, where that is known."""
-    at_end = {(id(judged.road.element), judged.end): judged for judged in links}
-    for road in network.rail_roads:
-        sections = road.lane_template.lane_sections
-        for section_index, section in enumerate(sections):
-            for lane_index, lane in enumerate(section.lanes):
-                if not lane.is_rail:
-                    continue
-                source = LaneEnd(road, section_index, lane_index, section, lane)
-                for kind in ("predecessor", "successor"):
-                    target = _pointed_section(road, sections, section_index, kind, at_end)
-                    if target is None:
-                        continue
-                    target_road, target_section, where, crossing = target
-                    lane_links = lane.predecessors if kind == "predecessor" else lane.successors
-                    for index, lane_link in enumerate(lane_links):
-                        if lane_link.id is None:
-                            continue  # not an integer: the schema reports it
-                        named = next(
-                            (other for other in target_section.lanes if other.id == lane_link.id),
-                            None,
-                        )
-                        yield LaneLinkTarget(
-                            source,
-                            kind,
-                            index,
-                            lane_link,
-                            target_road,
-                            target_section,
-                            where,
-                            named,
-                            crossing,
-                        )
-
-
-def _pointed_section(
-    road: Road,
-    sections: Sequence[LaneSection],
-    index: int,
-    kind: str,
-    at_end: dict[tuple[int, str], TrackLink],
-) -> tuple[Road, LaneSection, str, TrackLink | None] | None:
-    """The lane section a lane link of section ``index`` points into, with words for it
-    and the road link crossed; ``None`` where it is not known (no road link at that end,
-    a link to a junction, a road the file lacks or a link without a contact point)."""
-    step = -1 if kind == "predecessor" else 1
-    if 0 <= index + step < len(sections):
-        neighbour = index + step
-        where = f"lane section {neighbour + 1} of road '{road.id}'"
-        return road, sections[neighbour], where, None
-    judged = at_end.get((id(road.element), END_OF[kind]))
-    if judged is None or judged.target is None:
-        return None
-    target = judged.target
-    contact = judged.link.contact_point
-    found = end_section(target, contact) if contact in LINK_AT else None
-    if found is None:
-        return None
-    return target, found[1], f"the {contact} of road '{target.id}'", judged

@@ -65,7 +65,8 @@ from xodrlint.findings import Hit, RuleOption, Severity
 from xodrlint.model import RailNetwork
 from xodrlint.rules import Settings, rule
 from xodrlint.rules._shared import S_TOLERANCE, beyond, point
-from xodrlint.rules.tracks._joints import JoinedLanes, Joint, joints
+from xodrlint.rules.tracks._joints import JoinedLanes, Joint
+from xodrlint.rules.tracks._network import joints
 
 TOLERANCE: Final = RuleOption(
     name="link-tolerance",

@@ -51,7 +51,8 @@ from collections.abc import Iterator
 from xodrlint.findings import Hit, Severity
 from xodrlint.model import RailNetwork
 from xodrlint.rules import rule
-from xodrlint.rules.tracks._joints import NOT_ANSWERED, track_network
+from xodrlint.rules.tracks._joints import NOT_ANSWERED
+from xodrlint.rules.tracks._network import track_network
 
 
 @rule(

@@ -43,7 +43,8 @@ from collections.abc import Iterator
 from xodrlint.findings import Hit, Severity
 from xodrlint.model import RailNetwork
 from xodrlint.rules import rule
-from xodrlint.rules.tracks._joints import NO_CONTACT_POINT, track_network
+from xodrlint.rules.tracks._joints import NO_CONTACT_POINT
+from xodrlint.rules.tracks._network import track_network
 
 
 @rule(

@@ -48,7 +48,8 @@ from collections.abc import Iterator
 from xodrlint.findings import Hit, Severity
 from xodrlint.model import Connection, Junction, RailNetwork, Road
 from xodrlint.rules import rule
-from xodrlint.rules.tracks._joints import END_OF, end_section, lane_ids, track_network
+from xodrlint.rules.tracks._joints import END_OF, end_section, lane_ids
+from xodrlint.rules.tracks._network import track_network
 
 
 @rule(
