@@ -146,7 +146,9 @@ class TrackGeometry:
 
 
 def _lane_centre(road: Road, section: LaneSection, lane: Lane, s: float) -> float | None:
-    value = centre_at(road.lane_template, section, section.s or 0.0, lane, s)
+    if section.s is None:
+        return None  # where the section starts, and so its widths, is unknown
+    value = centre_at(road.lane_template, section, section.s, lane, s)
     return value if value is not None and math.isfinite(value) else None
 
 

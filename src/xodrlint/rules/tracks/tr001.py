@@ -71,7 +71,7 @@ from xodrlint.rules.tracks._network import joints
 TOLERANCE: Final = RuleOption(
     name="link-tolerance",
     default=0.1,
-    description="Largest distance between the track points of two linked rail roads",
+    description="Largest distance between the centres of two lanes a joint of tracks joins",
 )
 
 
