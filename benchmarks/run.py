@@ -22,6 +22,9 @@ railway.py (every road a track), "mixed" the city-and-rail network of generate.p
 - B:   200 small files with ``-j 1`` / with ``-j 2`` (a speed-up)
 - G:   xodrlint on the mixed 1.7 network / the same without the track-geometry rules
        (SW011, SW012, TR001, TR002; issue 15: they may add less than 5% to the run)
+- T:   xodrlint on the rail 1.7 network / the same without the track-network rules (TR:
+       joints, links, lane links, plan view, profiles; issue 28: at most 10% of a run on a
+       railway where every road is a track)
 - F:   xodrlint on the many-findings rail file (an XS006 and an SW012 per switch, as large
        as the clean one) / on the clean rail 1.7 file
 - F2:  time per finding at ~40,000 findings / at ~5,000 (two many-findings rail files of
@@ -67,7 +70,7 @@ MB = 1024 * 1024
 GB = 1000**3
 TARGETS = {
     "R1r": 1.3, "R2r": 1.6, "R1": 1.2, "R2": 1.5, "R3": 1.3, "M": 1.3, "Mmix": 1.5,
-    "S": 2.2, "B": 1.6, "G": 1.05, "F": 2.0, "F2": 1.3, "D": 1.3, "MR1 s": 60.0,
+    "S": 2.2, "B": 1.6, "G": 1.05, "T": 1.10, "F": 2.0, "F2": 1.3, "D": 1.3, "MR1 s": 60.0,
     "MR1 GB": 3.0,
 }  # fmt: skip
 #: Figures that are speed-ups: the higher the better.
@@ -84,6 +87,7 @@ FIGURES = {
     "S": ("xodrlint 1.7 x2", "xodrlint 1.7", "seconds"),
     "B": ("batch -j 1", "batch -j 2", "seconds"),
     "G": ("xodrlint 1.7", "1.7 no geometry", "seconds"),
+    "T": ("xodrlint rail 1.7", "rail 1.7 no track rules", "seconds"),
     "F": ("rail defects", "xodrlint rail 1.7", "seconds"),
     "F2": ("findings ~40k", "findings ~5k", "per_finding"),
     "D": ("dask local 2000", "pool -j 2 2000", "seconds"),
@@ -251,6 +255,7 @@ def rail(inputs: Inputs, tools: Tools) -> list[Command]:
     return [
         tools.validate("xmllint rail 1.7", rail17),
         tools.xodrlint("xodrlint rail 1.7", rail17),
+        tools.xodrlint("rail 1.7 no track rules", "--ignore", "TR", rail17),
         tools.xodrlint("xodrlint rail 1.8", inputs.rail(8)),
     ]
 

@@ -147,6 +147,7 @@ def test_each_ratio_is_the_median_of_its_rounds(capsys: pytest.CaptureFixture[st
     assert set(figures) == set(RUN.FIGURES) == set(RUN.TARGETS) - {"MR1 s", "MR1 GB"}
     assert figures["R2"] == figures["R3"] == figures["B"] == figures["R2r"] == 1.5
     assert figures["R1"] == figures["R1r"] == figures["G"] == figures["Mmix"] == 1.0
+    assert figures["T"] == 1.0
     assert figures["M"] == 1.3
     assert figures["F"] == 2.5
     assert figures["F2"] == pytest.approx(1.25)
@@ -179,7 +180,7 @@ def test_the_commands_of_a_round(
     tools = RUN.Tools(["xodrlint", "check"], ["xmllint", "--noout"], {})
     names = [command.name for command in RUN.commands(RUN.Inputs(tmp_path, 2.0), tools, only)]
     assert len(names) == len(set(names))  # a command shared by two groups runs once a round
-    groups = {"mixed": ("R1", "R2", "R3", "Mmix", "S", "B", "G"), "rail": ("R1r", "R2r", "M")}
+    groups = {"mixed": ("R1", "R2", "R3", "Mmix", "S", "B", "G"), "rail": ("R1r", "R2r", "M", "T")}
     groups["findings"] = ("F", "F2")
     groups["dask"] = ("D",)
     wanted = [key for group, keys in groups.items() if only in ("all", group) for key in keys]

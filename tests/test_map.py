@@ -304,6 +304,25 @@ def test_findings_are_placed_by_their_element(
             "/OpenDRIVE/road[@id='2']/link/predecessor",
             (100.0, 1.0),
         ),
+        # TR006: a lane's successor where its lane section ends (s=50 of road 1, inside
+        # the road; the lane's centre is on the reference line)
+        (
+            "TR006/invalid_next_section_lane_missing.xodr",
+            "/OpenDRIVE/road[@id='1']/lanes/laneSection[1]/right/lane[@id='-1']/link/successor[@id='-3']",
+            (50.0, 0.0),
+        ),
+        # TR006: a junction's laneLink where it enters its connecting road (road 2's start)
+        (
+            "TR006/invalid_junction_lane_link_from_missing.xodr",
+            "/OpenDRIVE/junction[@id='5']/connection[@id='0']/laneLink",
+            (100.0, 0.0),
+        ),
+        # TR003 to TR005: a link at the end of its road
+        (
+            "TR005/invalid_no_contact_point.xodr",
+            "/OpenDRIVE/road[@id='1']/link/successor",
+            (100.0, 0.0),
+        ),
     ],
 )
 def test_geometry_findings_are_placed_at_the_points_their_messages_name(
@@ -388,10 +407,11 @@ def test_the_berlin_map_renders_in_seconds_into_a_page_of_reasonable_size(tmp_pa
     html = out.read_text("utf-8")
     svg = _svg(html)
     assert _count(svg, "road") == 2  # all 5,435 ordinary roads share two path elements
-    # 109 tracks; findings: one on each of them, TR001 and TR002 on the two links of the
-    # junction road 13515, whose tram lane runs against both tracks it joins, and TR009 on
-    # road 13479, 0.1 m long by its @length and 0.087 m by its plan view
-    assert _count(svg, "track") == 109 and _count(svg, "finding") == 114
+    # 109 tracks; findings: one on each of them, TR001 on the two links of the junction
+    # road 13515, whose tram lane runs against both tracks it joins (the gap silences
+    # TR002 there), TR007 on road 15024, whose tram lane continues as a restricted lane,
+    # and TR009 on road 13479, 0.1 m long by its @length and 0.087 m by its plan view
+    assert _count(svg, "track") == 109 and _count(svg, "finding") == 113
     assert size < 2_000_000
     assert seconds < 30  # about 5 s on a 2-core machine; the margin is for a busy CI
 

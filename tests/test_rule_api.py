@@ -19,7 +19,7 @@ import pytest
 import xodrlint.rules
 from xodrlint.rules import API_VERSION
 
-RECORDED_VERSION = (1, 0)
+RECORDED_VERSION = (1, 1)
 #: Each name with what a pack may use of it: a type's attributes, a function's
 #: parameters, ``None`` for a constant or an alias.
 RECORDED: dict[str, list[str] | None] = {
@@ -27,16 +27,25 @@ RECORDED: dict[str, list[str] | None] = {
     "NON_TRAFFIC_LANE_TYPES": None,
     "RAIL_LANE_TYPES": None,
     "RESERVED_PREFIXES": None,
+    "Connection": [
+        "connecting_road", "contact_point", "element", "id", "incoming_road", "lane_links",
+    ],
     "Cubic": ["a", "at", "b", "c", "d", "element", "start"],
     "Hit": ["column", "defers_to", "element", "kind", "line", "message", "related"],
-    "Lane": ["element", "id", "is_rail", "side", "type", "widths", "widths_complete"],
+    "Junction": ["connections", "element", "id"],
+    "JunctionLaneLink": ["element", "from_id", "to_id"],
+    "Lane": [
+        "element", "id", "is_rail", "predecessors", "side", "successors", "type", "widths",
+        "widths_complete",
+    ],
+    "LaneLink": ["element", "id"],
     "LaneSection": ["element", "lanes", "rail_lanes", "s"],
     "PartnerRef": ["element", "id", "name"],
     "Platform": ["element", "id", "name", "segments"],
     "RailNetwork": [
-        "derived", "platforms", "problems", "rail_roads", "road_by_id", "roads", "segments",
-        "shared", "stations", "switch_by_id", "switches", "switches_by_main_track",
-        "switches_by_side_track",
+        "derived", "junction_by_id", "junctions", "platforms", "problems", "rail_roads",
+        "road_by_id", "roads", "segments", "shared", "stations", "switch_by_id", "switches",
+        "switches_by_main_track", "switches_by_side_track",
     ],
     "Road": [
         "element", "has_rail_lane", "id", "lane_offsets", "lane_offsets_complete",

@@ -5,7 +5,8 @@ TR002).
 - The **track point** of a road at s is the centre line of the road's rail or tram lane
   at s when the lane section there holds exactly one such lane (t = ``laneOffset(s)``
   plus the lane's inner edge and half its width, the widths as the cubics they are);
-  otherwise the reference line (t = 0).
+  otherwise the reference line (t = 0). At a joint, each pair of joined lanes is
+  judged at the two lanes' own centres (:meth:`TrackGeometry.lane_point`).
 - The **direction of travel** for ``dir`` is the reference line's heading at s for
   ``+``, that heading plus pi for ``-``. Angles are compared on the circle.
 
@@ -21,13 +22,13 @@ points: the rules stay silent on it, and TR014 says why.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Final, NamedTuple
 
 from xodrlint.geometry.curves import MAX_COORDINATE
 from xodrlint.geometry.evaluable import PlanView, judge_plan_view
 from xodrlint.geometry.planview import ReferenceLine
-from xodrlint.model import Cubic, LaneSection, RailNetwork, Road
+from xodrlint.model import Cubic, Lane, LaneSection, RailNetwork, Road
 from xodrlint.model.lane_profiles import S_TOLERANCE, centre_at
 
 
@@ -82,13 +83,24 @@ class TrackGeometry:
             found = self._points[key] = self._evaluate(road, s)
             return found
 
-    def _evaluate(self, road: Road, s: float) -> TrackPoint | None:
+    def lane_point(
+        self, road: Road, section: LaneSection, lane: Lane, s: float
+    ) -> TrackPoint | None:
+        """The centre of ``lane`` at ``s``, whatever other rail lanes its section holds
+        (a joint judges each pair of joined lanes at their own centres); ``section`` and
+        ``lane`` are read from ``road``'s lane template. ``None`` where the lane's centre
+        or the plan view cannot be evaluated."""
+        return self._evaluate(road, s, lambda: _lane_centre(road, section, lane, s))
+
+    def _evaluate(
+        self, road: Road, s: float, lateral_of: Callable[[], float | None] | None = None
+    ) -> TrackPoint | None:
         line = self.reference_line(road)
         record = line.record_at(s) if line is not None and math.isfinite(s) else None
         if record is None:
             return None
         try:
-            lateral = self._lateral(road, s)
+            lateral = self._lateral(road, s) if lateral_of is None else lateral_of()
             if lateral is None:
                 return None
             pose = record.pose_at(min(max(s - record.s, 0.0), record.length))
@@ -131,6 +143,13 @@ class TrackGeometry:
         draws a record whose own length is unreadable up to the next one; a rule judges
         nothing it would have to guess)."""
         return self.plan_view(road).line
+
+
+def _lane_centre(road: Road, section: LaneSection, lane: Lane, s: float) -> float | None:
+    if section.s is None:
+        return None  # where the section starts, and so its widths, is unknown
+    value = centre_at(road.lane_template, section, section.s, lane, s)
+    return value if value is not None and math.isfinite(value) else None
 
 
 def _lateral_at(sections: Sequence[LaneSection], template: Road, s: float) -> float | None:

@@ -1,9 +1,10 @@
 """Where a finding goes on the map: the element its XPath names, placed by what it is (a
 switch at its point, a segment at its middle, a lane or lane section at its start, a
 geometry record at its start, an elevation or superelevation entry on the reference line
-at its s, a road link at the road end it joins, a road at its middle, or at its plan
-view's end for a finding about its length), or else by its nearest ancestor that has a
-place. Switch tracks and road links are placed at the track points the track-geometry
+at its s, a road link at the road end it joins, a lane link at the end of its lane, a
+junction's lane link where it enters its connecting road, a road at its middle, or at its
+plan view's end for a finding about its length), or else by its nearest ancestor that has
+a place. Switch tracks and road links are placed at the track points the track-geometry
 rules name in their messages."""
 
 from __future__ import annotations
@@ -49,6 +50,7 @@ class Locator:
             "superelevation": self._profile_entry,
             "predecessor": self._link,
             "successor": self._link,
+            "laneLink": self._junction_lane_link,
             "road": self._road,
         }
 
@@ -94,12 +96,29 @@ class Locator:
         return self._track_point(element.get("id"), number(element, "s"))
 
     def _link(self, element: etree._Element) -> Point | None:
-        """A road link at the end of its road it joins (TR001 and TR002 name that point)."""
+        """A road link at the end of its road it joins (TR001 and TR002 name that point);
+        a lane's link at the end of its lane it joins."""
         link = element.getparent()
         road = self._road_above(element) if link is not None and link.tag == "link" else None
+        if road is None or link is None:
+            return None
+        lane = link.getparent()
+        if lane is not None and lane.tag == "lane":
+            end = "start" if element.tag == "predecessor" else "end"
+            return self._placer.lane_end(road, lane, end)
+        return self._track_point(road.id, 0.0 if element.tag == "predecessor" else road.length)
+
+    def _junction_lane_link(self, element: etree._Element) -> Point | None:
+        """A junction's lane link where it enters its connecting road (at the contact
+        point the connection names, its start when it names none)."""
+        connection = element.getparent()
+        if connection is None:
+            return None
+        road = self._placer.road(connection.get("connectingRoad"))
         if road is None:
             return None
-        return self._track_point(road.id, 0.0 if element.tag == "predecessor" else road.length)
+        at_end = connection.get("contactPoint") == "end"
+        return self._track_point(road.id, road.length if at_end else 0.0)
 
     def _track_point(self, road_id: str | None, s: float | None) -> Point | None:
         """The track point the geometry rules compute, else the map's own placement (a

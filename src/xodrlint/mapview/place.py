@@ -102,13 +102,19 @@ class Placer:
     def lane_start(self, road: Road, lane_element: etree._Element) -> Point | None:
         """A lane's centre at the start of its lane section (the section's start if the
         centre cannot be computed)."""
-        for section, start, _ in road.section_ranges():
+        return self.lane_end(road, lane_element, "start")
+
+    def lane_end(self, road: Road, lane_element: etree._Element, end: str) -> Point | None:
+        """A lane's centre at the ``start`` or ``end`` of its lane section (a lane link is
+        drawn where it joins); the section's start if the centre cannot be computed."""
+        for section, start, stop in road.section_ranges():
             if lane_element not in section.element.iter("lane"):
                 continue
             lane = next((lane for lane in section.lanes if lane.element is lane_element), None)
             terms = _lane_terms(road, section, start, lane)
+            s = start if end == "start" else stop
             if terms is not None:
-                return self.point(road, start, lateral_value(terms, start))
+                return self.point(road, s, lateral_value(terms, s))
             return self.section_start(road, section)
         return None
 

@@ -1,8 +1,8 @@
 """Stage 3, model: the read-only facts of one file that every rule shares.
 
 - :mod:`~xodrlint.model.network`: one pass over the tree builds the indexes (roads and
-  their lanes, switches, stations, platforms, segments); :class:`RailNetwork` is what a
-  rule receives.
+  their lanes and lane links, junctions and their connections, switches, stations,
+  platforms, segments); :class:`RailNetwork` is what a rule receives.
 - :mod:`~xodrlint.model.lane_profiles`: ``laneOffset`` and lane ``width`` as the piecewise
   cubics they are, so a rule can say "anywhere along the lane section" exactly.
 
@@ -12,8 +12,12 @@ The names below are the model's public surface; rule packs import them from here
 from xodrlint.model.network import (
     NON_TRAFFIC_LANE_TYPES,
     RAIL_LANE_TYPES,
+    Connection,
     Cubic,
+    Junction,
+    JunctionLaneLink,
     Lane,
+    LaneLink,
     LaneSection,
     PartnerRef,
     Platform,
@@ -35,8 +39,12 @@ from xodrlint.model.network import (
 __all__ = [
     "NON_TRAFFIC_LANE_TYPES",
     "RAIL_LANE_TYPES",
+    "Connection",
     "Cubic",
+    "Junction",
+    "JunctionLaneLink",
     "Lane",
+    "LaneLink",
     "LaneSection",
     "PartnerRef",
     "Platform",

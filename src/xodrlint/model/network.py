@@ -124,6 +124,15 @@ class Cubic(NamedTuple):
         return self.a + ds * (self.b + ds * (self.c + ds * self.d))
 
 
+class LaneLink(NamedTuple):
+    """A lane's ``link/predecessor`` or ``link/successor``: the lane it continues from or
+    into, in the neighbouring lane section or, at the road's end, in the linked road."""
+
+    element: etree._Element
+    id: int | None
+    """``@id`` of the lane linked to; ``None`` when missing or not an integer."""
+
+
 class Lane(NamedTuple):
     """A ``lane`` of a lane section."""
 
@@ -139,6 +148,10 @@ class Lane(NamedTuple):
     with unreadable coefficients are left out."""
     widths_complete: bool = True
     """Every ``width`` entry of the lane was readable: ``widths`` is the lane's width."""
+    predecessors: tuple[LaneLink, ...] = ()
+    """``link/predecessor`` entries, in document order (OpenDRIVE allows several)."""
+    successors: tuple[LaneLink, ...] = ()
+    """``link/successor`` entries, in document order."""
 
     @property
     def is_rail(self) -> bool:
@@ -302,6 +315,52 @@ class RoadLink(NamedTuple):
     contact_point: str | None
 
 
+class JunctionLaneLink(NamedTuple):
+    """A connection's ``laneLink``: a lane of the incoming road into one of the connecting
+    road."""
+
+    element: etree._Element
+    from_id: int | None
+    """``@from``: the lane of the incoming road."""
+    to_id: int | None
+    """``@to``: the lane of the connecting road."""
+
+
+class Connection(NamedTuple):
+    """A junction's ``connection``: an incoming road and the connecting road it enters."""
+
+    element: etree._Element
+    id: str | None
+    incoming_road: str | None
+    """``@incomingRoad``."""
+    connecting_road: str | None
+    """``@connectingRoad``."""
+    contact_point: str | None
+    """``@contactPoint``: the end of the connecting road the incoming road enters at."""
+    lane_links: tuple[JunctionLaneLink, ...]
+
+
+class Junction:
+    """A ``junction``: its id at once; its connections are read on first use (a city map
+    has thousands, and only the track rules look into those of tracks)."""
+
+    __slots__ = ("_connections", "element", "id")
+
+    def __init__(self, element: etree._Element, id: str | None) -> None:
+        self.element = element
+        self.id = id
+        self._connections: tuple[Connection, ...] | None = None
+
+    def __repr__(self) -> str:
+        return f"Junction(id={self.id!r})"
+
+    @property
+    def connections(self) -> tuple[Connection, ...]:
+        if self._connections is None:
+            self._connections = _read_connections(self.element)
+        return self._connections
+
+
 class TrackRef(NamedTuple):
     """A ``mainTrack`` or ``sideTrack``: a road, a position on it and a direction."""
 
@@ -412,6 +471,8 @@ class RailNetwork:
     problems: Mapping[str, Sequence[Hit]] = field(default_factory=dict)
     """What loading and validating the file found, by the code of the document rule
     (``XS001`` ... ``XS006``) that reports it."""
+    junctions: tuple[Junction, ...] = ()
+    """Every ``junction``, in document order."""
     derived: dict[type, object] = field(default_factory=dict, repr=False, compare=False)
     """What rules compute from the model once per file and share (the plan-view geometry
     of the roads they touch), keyed by the type of the value; see :meth:`shared`."""
@@ -419,6 +480,7 @@ class RailNetwork:
     def __post_init__(self) -> None:
         object.__setattr__(self, "road_by_id", _first_by_id(self.roads, "id"))
         object.__setattr__(self, "switch_by_id", _first_by_id(self.switches, "id"))
+        object.__setattr__(self, "junction_by_id", _first_by_id(self.junctions, "id"))
         object.__setattr__(
             self,
             "switches_by_side_track",
@@ -434,6 +496,8 @@ class RailNetwork:
     """Roads by ``@id``, the first of each id."""
     switch_by_id: Mapping[str, Switch] = field(init=False, repr=False)
     """Switches by ``@id``, the first of each id."""
+    junction_by_id: Mapping[str, Junction] = field(init=False, repr=False)
+    """Junctions by ``@id``, the first of each id."""
     switches_by_side_track: Mapping[str, tuple[Switch, ...]] = field(init=False, repr=False)
     """Switches in document order, by the road their ``sideTrack`` names."""
     switches_by_main_track: Mapping[str, tuple[Switch, ...]] = field(init=False, repr=False)
@@ -474,19 +538,29 @@ def build_network(
     roads: list[Road] = []
     switches: list[Switch] = []
     stations: list[Station] = []
+    junctions: list[Junction] = []
     found = _RAIL_ROADS(root)
     rail_roads = set(found) if isinstance(found, list) else set()
     templates: Templates = weakref.WeakValueDictionary()
-    for child in root.iterchildren("road", "station"):
-        if child.tag == "road":
+    for child in root.iterchildren("road", "station", "junction"):
+        tag = child.tag
+        if tag == "road":
             road = Road(
                 child, child.get("id"), number(child, "length"), child in rail_roads, templates
             )
             roads.append(road)
             switches.extend(_read_switches(child, road))
-        else:
+        elif tag == "station":
             stations.append(_read_station(child))
-    return RailNetwork(tuple(roads), tuple(switches), tuple(stations), frozen_problems)
+        else:
+            junctions.append(Junction(child, child.get("id")))
+    return RailNetwork(
+        tuple(roads),
+        tuple(switches),
+        tuple(stations),
+        frozen_problems,
+        junctions=tuple(junctions),
+    )
 
 
 def _read_lanes(road: etree._Element) -> RoadLanes:
@@ -520,6 +594,23 @@ def _read_links(road: etree._Element) -> tuple[RoadLink, ...]:
     )
 
 
+def _read_connections(junction: etree._Element) -> tuple[Connection, ...]:
+    return tuple(
+        Connection(
+            connection,
+            connection.get("id"),
+            connection.get("incomingRoad"),
+            connection.get("connectingRoad"),
+            connection.get("contactPoint"),
+            tuple(
+                JunctionLaneLink(link, integer(link, "from"), integer(link, "to"))
+                for link in connection.iterchildren("laneLink")
+            ),
+        )
+        for connection in junction.iterchildren("connection")
+    )
+
+
 def _read_lane_section(element: etree._Element) -> LaneSection:
     lanes: list[Lane] = []
     for side in element.iterchildren("left", "center", "right"):
@@ -531,13 +622,29 @@ def _read_lane_section(element: etree._Element) -> LaneSection:
 def _read_lane(element: etree._Element, side: str) -> Lane:
     widths: list[Cubic] = []
     complete = True
-    for entry in element.iterchildren("width"):
+    predecessors: list[LaneLink] = []
+    successors: list[LaneLink] = []
+    for entry in element.iterchildren("width", "link"):
+        if entry.tag == "link":
+            for end in entry.iterchildren("predecessor", "successor"):
+                found = predecessors if end.tag == "predecessor" else successors
+                found.append(LaneLink(end, integer(end, "id")))
+            continue
         cubic = _cubic(entry, "sOffset")
         if cubic is None:
             complete = False
         else:
             widths.append(cubic)
-    return Lane(element, integer(element, "id"), side, element.get("type"), tuple(widths), complete)
+    return Lane(
+        element,
+        integer(element, "id"),
+        side,
+        element.get("type"),
+        tuple(widths),
+        complete,
+        tuple(predecessors),
+        tuple(successors),
+    )
 
 
 def _cubic(entry: etree._Element, start_attribute: str) -> Cubic | None:

@@ -28,8 +28,12 @@ from xodrlint.findings import OPTION_KINDS, Hit, RuleMeta, RuleOption, Severity
 from xodrlint.model import (
     NON_TRAFFIC_LANE_TYPES,
     RAIL_LANE_TYPES,
+    Connection,
     Cubic,
+    Junction,
+    JunctionLaneLink,
     Lane,
+    LaneLink,
     LaneSection,
     PartnerRef,
     Platform,
@@ -52,9 +56,13 @@ __all__ = [
     "NON_TRAFFIC_LANE_TYPES",
     "RAIL_LANE_TYPES",
     "RESERVED_PREFIXES",
+    "Connection",
     "Cubic",
     "Hit",
+    "Junction",
+    "JunctionLaneLink",
     "Lane",
+    "LaneLink",
     "LaneSection",
     "PartnerRef",
     "Platform",
@@ -82,7 +90,7 @@ __all__ = [
 #: added, the major when one is removed, renamed or changes meaning. A pack states the
 #: version it was written for as ``XODRLINT_RULE_API`` in the module its entry point
 #: names; a pack of another major, or of a newer minor, is not loaded.
-API_VERSION: Final = (1, 0)
+API_VERSION: Final = (1, 1)
 
 #: Code prefixes of the built-in rule families, and ``X`` for the linter's own (XS, XL,
 #: and families to come). A third-party pack whose codes start with one of them is not

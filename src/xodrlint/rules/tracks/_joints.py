@@ -1,41 +1,118 @@
-"""The joints of a railway: the ends of two rail roads that a road link joins, each once."""
+"""The links of a railway, read once per file and shared by the track-network rules.
+
+- Every road link of a track is judged as a link: it names a road or junction the file
+  does not define (TR003), it joins two tracks without a ``contactPoint`` (TR005), or the
+  road it joins does not name it back at that end (TR004, once per pair of roads).
+- A **joint** is a road link between two tracks with a contact point, once per pair of
+  road ends (on the link of the road first in the document when both name each other).
+  Its **joined lanes** are the pairs of rail/tram lanes of the two end lane sections that
+  a lane link pairs (either side's), or the two single rail/tram lanes when each section
+  holds exactly one and no lane link of theirs points elsewhere (TR001, TR002, TR007).
+- Where each rail lane's lane links point (:mod:`._lane_links`: TR006, TR007).
+
+Lanes are read from each road's lane template (:attr:`~xodrlint.model.Road.lane_template`:
+a railway repeats a few lane layouts over thousands of tracks); a finding about a lane is
+put on the road's own element, found by position.
+"""
 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
-from typing import TYPE_CHECKING, NamedTuple
+from collections.abc import Iterator, Sequence
+from typing import TYPE_CHECKING, Final, NamedTuple
 
-from xodrlint.model import RailNetwork, Road, RoadLink
+from xodrlint.model import Junction, Lane, LaneLink, LaneSection, RailNetwork, Road, RoadLink
 
 if TYPE_CHECKING:
-    from xodrlint.geometry.tracks import TrackPoint
+    from lxml import etree
 
-#: A road's end, as a link names it: where it is and the way a train leaves through it.
-_ENDS = {"start": "-", "end": "+"}
+    from xodrlint.geometry.tracks import TrackGeometry, TrackPoint
+
+#: The end of its road a road link (or a lane link) is at.
+END_OF: Final = {"predecessor": "start", "successor": "end"}
+#: The link that leaves a road through an end.
+LINK_AT: Final = {"start": "predecessor", "end": "successor"}
+#: The direction of travel that leaves a road through an end.
+_LEAVING: Final = {"start": "-", "end": "+"}
+
+#: Why a link of a track is wrong, by the code of the rule that reports it.
+TARGET_MISSING: Final = "TR003"
+NOT_ANSWERED: Final = "TR004"
+NO_CONTACT_POINT: Final = "TR005"
+
+
+class TrackLink(NamedTuple):
+    """A ``link/predecessor|successor`` of a track, judged."""
+
+    road: Road
+    link: RoadLink
+    end: str
+    """The end of ``road`` it is at: ``start`` or ``end``."""
+    target: Road | None
+    """The road it names, when it names one the file defines."""
+    fault: str | None
+    """The code of the rule the link is wrong by (``TR003``, ``TR004``, ``TR005``)."""
+    reported: bool
+    """Whether the finding of ``fault`` goes on this link (TR004 reports a pair of roads
+    whose links both go unanswered once, on the earlier road's link)."""
+    why: str
+    """What is wrong, for the message."""
+
+
+class LaneEnd(NamedTuple):
+    """A lane of a road's lane section, read from the road's lane template."""
+
+    road: Road
+    section_index: int
+    lane_index: int
+    section: LaneSection
+    lane: Lane
+
+    @property
+    def element(self) -> etree._Element:
+        """The road's own ``lane`` element (``lane`` is the template's)."""
+        own = self.road.lane_sections[self.section_index].lanes[self.lane_index]
+        return own.element
+
+    def own_link(self, kind: str, index: int) -> etree._Element:
+        """The road's own ``link/predecessor|successor`` element number ``index``."""
+        own = self.road.lane_sections[self.section_index].lanes[self.lane_index]
+        return (own.predecessors if kind == "predecessor" else own.successors)[index].element
+
+    def describe(self) -> str:
+        return f"{self.lane.type} lane {self.lane.id} of road '{self.road.id}'"
+
+
+class JoinedLanes(NamedTuple):
+    """Two lanes a joint joins, and their centres at the joined ends (``None`` where the
+    plan view or the lane's centre cannot be evaluated)."""
+
+    first: LaneEnd
+    second: LaneEnd
+    first_point: TrackPoint | None
+    second_point: TrackPoint | None
 
 
 class Joint(NamedTuple):
-    """Two rail roads joined by ``link``: the first leaves at ``first_end``, the second is
-    entered at ``second_end`` (``start`` or ``end``), with their track points there."""
+    """Two tracks joined by ``link``: the first leaves at ``first_end``, the second is
+    entered at ``second_end`` (``start`` or ``end``)."""
 
     link: RoadLink
     first: Road
     first_end: str
     second: Road
     second_end: str
-    first_point: TrackPoint
-    second_point: TrackPoint
+    answered: bool
+    """The second road names the first back at that end (else TR004 reports the link)."""
+    lanes: tuple[JoinedLanes, ...]
 
-    @property
-    def leaving(self) -> float:
+    def leaving(self, point: TrackPoint) -> float:
         """The direction of travel leaving the first road through the joint."""
-        return self.first_point.direction(_ENDS[self.first_end])
+        return point.direction(_LEAVING[self.first_end])
 
-    @property
-    def entering(self) -> float:
+    def entering(self, point: TrackPoint) -> float:
         """The direction of travel entering the second road through the joint."""
-        return self.second_point.direction("-" if _ENDS[self.second_end] == "+" else "+")
+        return point.direction("-" if _LEAVING[self.second_end] == "+" else "+")
 
     def describe(self) -> str:
         """How messages name the joint."""
@@ -45,47 +122,190 @@ class Joint(NamedTuple):
         )
 
 
-def joints(network: RailNetwork) -> list[Joint]:
-    """Each joint between two roads with a rail or tram lane, once: on the link of the road
-    that comes first in the document when both name each other. Joints whose track points
-    cannot be evaluated (no usable plan view, an unreadable lane) are left out. Worked
-    out once per file: TR001 and TR002 judge the same joints."""
-    return network.shared(_EveryJoint).joints
+def end_section(road: Road, end: str) -> tuple[int, LaneSection] | None:
+    """The lane section of ``road`` (its template's) at ``end``, with its index."""
+    sections = road.lane_template.lane_sections
+    if not sections:
+        return None
+    index = 0 if end == "start" else len(sections) - 1
+    return index, sections[index]
 
 
-class _EveryJoint:
-    def __init__(self, network: RailNetwork) -> None:
-        self.joints = list(_find_joints(network))
+def lane_ids(section: LaneSection) -> str:
+    """The ids of a section's lanes, for messages."""
+    ids = sorted({lane.id for lane in section.lanes if lane.id is not None}, reverse=True)
+    return ", ".join(str(lane_id) for lane_id in ids) or "none"
 
 
-def _find_joints(network: RailNetwork) -> Iterator[Joint]:
-    from xodrlint.geometry.tracks import TrackGeometry  # loaded only for a railway's links
-
-    seen: set[frozenset[tuple[int, str]]] = set()
-    tracks: TrackGeometry | None = None
+def judged_links(network: RailNetwork) -> Iterator[TrackLink]:
+    found: list[TrackLink] = []
     for road in network.rail_roads:
         for link in road.links:
-            other = _linked_rail_road(network, link)
-            own_end = "start" if link.kind == "predecessor" else "end"
-            if other is None or link.contact_point not in _ENDS:
+            judged = _judge(network, road, link)
+            if judged is not None:
+                found.append(judged)
+    # a pair of roads whose links both go unanswered is one defect: reported once
+    reported_pairs: set[frozenset[int]] = set()
+    for judged in found:
+        if judged.fault == NOT_ANSWERED and judged.target is not None:
+            pair = frozenset({id(judged.road.element), id(judged.target.element)})
+            if pair in reported_pairs:
+                yield judged._replace(reported=False)
                 continue
-            key = frozenset({(id(road.element), own_end), (id(other.element), link.contact_point)})
-            if key in seen:
-                continue
-            seen.add(key)
-            tracks = tracks or network.shared(TrackGeometry)
-            first = tracks.point(road, _s_at(road, own_end))
-            second = tracks.point(other, _s_at(other, link.contact_point))
-            if first is not None and second is not None:
-                yield Joint(link, road, own_end, other, link.contact_point, first, second)
+            reported_pairs.add(pair)
+        yield judged
 
 
-def _linked_rail_road(network: RailNetwork, link: RoadLink) -> Road | None:
-    if link.element_type != "road" or link.element_id is None:
+def _judge(network: RailNetwork, road: Road, link: RoadLink) -> TrackLink | None:
+    end = END_OF[link.kind]
+    if link.element_id is None:
+        return None  # the schema reports the missing attribute
+    if link.element_type == "junction":
+        if link.element_id in network.junction_by_id:
+            return TrackLink(road, link, end, None, None, False, "")
+        why = f"names junction '{link.element_id}', which the file does not define"
+        return TrackLink(road, link, end, None, TARGET_MISSING, True, why)
+    if link.element_type != "road":
         return None
-    other = network.road_by_id.get(link.element_id)
-    return other if other is not None and other.has_rail_lane else None
+    target = network.road_by_id.get(link.element_id)
+    if target is None:
+        why = f"names road '{link.element_id}', which the file does not define"
+        return TrackLink(road, link, end, None, TARGET_MISSING, True, why)
+    if not target.has_rail_lane:
+        return TrackLink(road, link, end, target, None, False, "")
+    if link.contact_point is not None and link.contact_point not in LINK_AT:
+        return None  # a value outside the enumeration: the schema reports it
+    if link.contact_point is None:
+        if link.element.get("elementS") is not None:
+            return None  # a virtual junction's link into the middle of a road: no joint of ends
+        why = (
+            f"joins road '{target.id}' without a contactPoint: which end of road "
+            f"'{target.id}' it joins is unknown"
+        )
+        return TrackLink(road, link, end, target, NO_CONTACT_POINT, True, why)
+    unanswered = _unanswered(network, road, end, target, link.contact_point)
+    if unanswered is None:
+        return TrackLink(road, link, end, target, None, False, "")
+    return TrackLink(road, link, end, target, NOT_ANSWERED, True, unanswered)
 
 
-def _s_at(road: Road, end: str) -> float:
-    return 0.0 if end == "start" else (road.length if road.length is not None else math.nan)
+def _unanswered(
+    network: RailNetwork, road: Road, end: str, target: Road, target_end: str
+) -> str | None:
+    """Why ``target``'s link at ``target_end`` does not name ``road`` at ``end`` back;
+    ``None`` when it does (a missing contact point there is TR005's, on that link)."""
+    kind = LINK_AT[target_end]
+    answer = next((link for link in target.links if link.kind == kind), None)
+    joined = f"joins the {target_end} of road '{target.id}', but the {kind} of road '{target.id}'"
+    if answer is None or answer.element_id is None:
+        return f"{joined} names nothing"
+    if answer.element_type == "junction":
+        junction = network.junction_by_id.get(answer.element_id)
+        if junction is None or _connects(junction, road):
+            return None  # a missing junction is TR003's, on that link
+        return (
+            f"{joined} names junction '{answer.element_id}', of which road '{road.id}' is "
+            "not a connecting road"
+        )
+    if answer.element_type != "road":
+        return None  # the schema reports the element type
+    if answer.element_id != road.id:
+        return f"{joined} names road '{answer.element_id}'"
+    if answer.contact_point in LINK_AT and answer.contact_point != end:
+        return f"{joined} names the {answer.contact_point} of road '{road.id}', not its {end}"
+    return None
+
+
+def _connects(junction: Junction, road: Road) -> bool:
+    """Whether ``road`` is a connecting road of ``junction``."""
+    if road.element.get("junction") == junction.id:
+        return True
+    return any(connection.connecting_road == road.id for connection in junction.connections)
+
+
+def find_joints(network: RailNetwork, links: Sequence[TrackLink]) -> Iterator[Joint]:
+    tracks: TrackGeometry | None = None
+    seen: set[frozenset[tuple[int, str]]] = set()
+    for judged in links:
+        target, link = judged.target, judged.link
+        if target is None or not target.has_rail_lane or link.contact_point not in LINK_AT:
+            continue
+        if judged.fault is not None and not judged.reported:
+            continue  # the other link of a pair TR004 reports once: neither is judged
+        key = frozenset(
+            {(id(judged.road.element), judged.end), (id(target.element), link.contact_point)}
+        )
+        if key in seen:
+            continue
+        seen.add(key)
+        if tracks is None:
+            from xodrlint.geometry.tracks import TrackGeometry  # loaded only for a railway
+
+            tracks = network.shared(TrackGeometry)
+        lanes = _joined_lanes(tracks, judged.road, judged.end, target, link.contact_point)
+        yield Joint(
+            link, judged.road, judged.end, target, link.contact_point, judged.fault is None, lanes
+        )
+
+
+def rail_lanes_at(road: Road, end: str) -> list[LaneEnd]:
+    """The rail/tram lanes of ``road``'s lane section at ``end``."""
+    found = end_section(road, end)
+    if found is None:
+        return []
+    index, section = found
+    return [
+        LaneEnd(road, index, position, section, lane)
+        for position, lane in enumerate(section.lanes)
+        if lane.is_rail
+    ]
+
+
+def _links_at(lane: Lane, end: str) -> tuple[LaneLink, ...]:
+    return lane.predecessors if end == "start" else lane.successors
+
+
+def _joined_lanes(
+    tracks: TrackGeometry, first: Road, first_end: str, second: Road, second_end: str
+) -> tuple[JoinedLanes, ...]:
+    firsts, seconds = rail_lanes_at(first, first_end), rail_lanes_at(second, second_end)
+    first_section = end_section(first, first_end)
+    second_section = end_section(second, second_end)
+    first_ids = {lane.id for lane in first_section[1].lanes} if first_section else set()
+    second_ids = {lane.id for lane in second_section[1].lanes} if second_section else set()
+    # every lane link of a rail lane at the joint that names a lane that is there
+    edges: set[tuple[int | None, int | None]] = set()
+    for lane_end in firsts:
+        for lane_link in _links_at(lane_end.lane, first_end):
+            if lane_link.id in second_ids:
+                edges.add((lane_end.lane.id, lane_link.id))
+    for lane_end in seconds:
+        for lane_link in _links_at(lane_end.lane, second_end):
+            if lane_link.id in first_ids:
+                edges.add((lane_link.id, lane_end.lane.id))
+    by_first = {lane_end.lane.id: lane_end for lane_end in firsts}
+    by_second = {lane_end.lane.id: lane_end for lane_end in seconds}
+    pairs = sorted(
+        (edge for edge in edges if edge[0] in by_first and edge[1] in by_second),
+        key=lambda edge: (-(edge[0] or 0), -(edge[1] or 0)),
+    )
+    if len(firsts) == 1 and len(seconds) == 1:
+        only = (firsts[0].lane.id, seconds[0].lane.id)
+        # the one-lane-each default, unless a lane link of theirs points elsewhere
+        if all(edge == only for edge in edges if edge[0] == only[0] or edge[1] == only[1]):
+            pairs = [only]
+    return tuple(
+        JoinedLanes(
+            by_first[a],
+            by_second[b],
+            _point(tracks, by_first[a], first_end),
+            _point(tracks, by_second[b], second_end),
+        )
+        for a, b in pairs
+    )
+
+
+def _point(tracks: TrackGeometry, lane_end: LaneEnd, end: str) -> TrackPoint | None:
+    road = lane_end.road
+    s = 0.0 if end == "start" else (road.length if road.length is not None else math.nan)
+    return tracks.lane_point(road, lane_end.section, lane_end.lane, s)

@@ -1,11 +1,12 @@
 """TR002 track-link-kink: two linked tracks meet at an angle a train cannot take.
 
 ## What it does
-Reports a road link between two roads with a rail or tram lane (the joints TR001 judges)
-where the direction of travel leaving the first road and the direction entering the
-second differ by more than the tolerance (default 5 degrees). Leaving through a road's
-end, a train runs along the reference-line heading there; leaving through its start, the
-opposite way; entering is the same in reverse. Angles are compared on the circle.
+Reports a pair of lanes joined at a joint (the pairs TR001 judges: rail/tram lanes of
+two tracks that a lane link pairs, or the single rail lane of each) where the direction
+of travel leaving the first road and the direction entering the second differ by more
+than the tolerance (default 5 degrees). Leaving through a road's end, a train runs along
+the reference-line heading there; leaving through its start, the opposite way; entering
+is the same in reverse. Angles are compared on the circle.
 
 ## Why is this bad?
 This is an inference from the standard's road linkage: a link joins two roads end to end
@@ -33,11 +34,14 @@ Use instead:
 - `link-angle` (degrees, default 5): the largest angle allowed between the directions of
   travel at a joint. Configuration: `link-angle = 5` in `[tool.xodrlint]`; command line:
   `--rule-option link-angle=5`.
+- `link-tolerance` (metres, default 0.1): TR001's gap; a pair of joined lanes further
+  apart than this is TR001's, not judged here.
 
 ## Related rules
-TR001 reports a gap at the same joint; TR002 judges the directions whatever the gap, so a
-joint can have both findings. Links to junctions and to roads without a rail or tram lane
-are not judged.
+TR001 reports a gap between the same joined lanes; a gap makes the angle meaningless, so
+TR002 stays silent on a pair TR001 reports. TR003, TR004 and TR005 report a link whose
+joint cannot be judged; TR002 defers to them on that link. Links to junctions and to
+roads without a rail or tram lane are not judged.
 
 ## References
 - ASAM OpenDRIVE 1.7, chapter "Roads", section "Road linkage", and chapter "Railroads"; rule
@@ -53,8 +57,8 @@ from typing import Final
 from xodrlint.findings import Hit, RuleOption, Severity
 from xodrlint.model import RailNetwork
 from xodrlint.rules import Settings, rule
-from xodrlint.rules._shared import beyond, degrees
-from xodrlint.rules.tracks._joints import joints
+from xodrlint.rules._shared import S_TOLERANCE, beyond, degrees
+from xodrlint.rules.tracks.tr001 import TOLERANCE, joint_gaps
 
 ANGLE: Final = RuleOption(
     name="link-angle",
@@ -69,19 +73,25 @@ ANGLE: Final = RuleOption(
     name="track-link-kink",
     uid="xodrlint:xodr:1.4.0:road.railroad.track.link_kink",
     severity=Severity.WARNING,
-    options=(ANGLE,),
+    options=(ANGLE, TOLERANCE),
+    defers_to=("TR003", "TR004", "TR005"),
 )
 def track_link_kink(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
     from xodrlint.geometry.tracks import turn_beyond
 
     limit = ANGLE.number(settings)
-    for joint in joints(network):
-        leaving, entering = joint.leaving, joint.entering
+    gap = TOLERANCE.number(settings)
+    for joint, lanes, distance in joint_gaps(network):
+        if distance > gap + S_TOLERANCE:
+            continue  # TR001's: a gap makes the angle meaningless
+        assert lanes.first_point is not None and lanes.second_point is not None
+        leaving, entering = joint.leaving(lanes.first_point), joint.entering(lanes.second_point)
         angle = turn_beyond(leaving, entering, limit)
         if angle is not None:
             yield Hit(
                 joint.link.element,
-                f"{joint.describe()} at an angle of {beyond(math.degrees(angle), limit, 2)} "
-                f"degrees: a train leaves at {degrees(leaving)} degrees and enters at "
-                f"{degrees(entering)} degrees",
+                f"{joint.describe()}: {lanes.first.describe()} meets "
+                f"{lanes.second.describe()} at an angle of "
+                f"{beyond(math.degrees(angle), limit, 2)} degrees: a train leaves at "
+                f"{degrees(leaving)} degrees and enters at {degrees(entering)} degrees",
             )
