@@ -68,6 +68,10 @@ class LaneEnd(NamedTuple):
     section: LaneSection
     lane: Lane
 
+    def key(self, end: str) -> tuple[int, int, int, str]:
+        """Which lane end this is, without reading the road's own lanes."""
+        return (id(self.road.element), self.section_index, self.lane_index, end)
+
     @property
     def element(self) -> etree._Element:
         """The road's own ``lane`` element (``lane`` is the template's)."""

@@ -62,13 +62,13 @@ from xodrlint.rules.tracks._network import track_network
 def rail_lane_not_continued(network: RailNetwork) -> Iterator[Hit]:
     judged = track_network(network)
     # a lane end whose lane links TR006 reports, or that this rule reported already
-    settled: set[tuple[int, str]] = set()
+    settled: set[tuple[int, int, int, str]] = set()
     # road ends where a lane link names a lane that is not there: what it joins is unknown
     unknown_ends: set[tuple[int, str]] = set()
     for target in judged.lane_links:
         if target.lane is None:
             end = END_OF[target.kind]
-            settled.add((id(target.source.element), end))
+            settled.add(target.source.key(end))
             unknown_ends.add((id(target.source.road.element), end))
             crossing = target.crossing
             if crossing is not None and crossing.target is not None:
@@ -76,7 +76,7 @@ def rail_lane_not_continued(network: RailNetwork) -> Iterator[Hit]:
                 unknown_ends.add((id(crossing.target.element), contact))
     for target in judged.lane_links:
         end = END_OF[target.kind]
-        key = (id(target.source.element), end)
+        key = target.source.key(end)
         if target.lane is None or target.lane.is_rail or key in settled:
             continue
         if target.crossing is not None and target.crossing.fault is not None:
@@ -93,7 +93,7 @@ def rail_lane_not_continued(network: RailNetwork) -> Iterator[Hit]:
 def _unjoined_lane_ends(
     network: RailNetwork,
     joints: list[Joint],
-    settled: set[tuple[int, str]],
+    settled: set[tuple[int, int, int, str]],
     unknown_ends: set[tuple[int, str]],
 ) -> Iterator[Hit]:
     """The rail lanes of a road end that none of the joints at that end joins to a rail
@@ -114,7 +114,7 @@ def _unjoined_lane_ends(
         if road_end in unknown_ends or not all(joint.answered for joint in its_joints):
             continue
         for lane_end in rail_lanes_at(road, end):
-            key = (id(lane_end.element), end)
+            key = lane_end.key(end)
             if lane_end.lane.id in joined or key in settled:
                 continue
             settled.add(key)
