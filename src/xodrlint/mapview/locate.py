@@ -1,8 +1,9 @@
 """Where a finding goes on the map: the element its XPath names, placed by what it is (a
 switch at its point, a segment at its middle, a lane or lane section at its start, a road
-link at the road end it joins, a road at its middle), or else by its nearest ancestor
-that has a place. Switch tracks and road links are placed at the track points the
-track-geometry rules name in their messages."""
+link at the road end it joins, an elevation or superelevation entry at its s, a road at
+its middle), or else by its nearest ancestor that has a place. Switch tracks, road links
+and profile entries are placed at the track points the track-geometry rules name in
+their messages."""
 
 from __future__ import annotations
 
@@ -40,6 +41,8 @@ class Locator:
             "geometry": geometry_start,
             "predecessor": self._link,
             "successor": self._link,
+            "elevation": self._profile_entry,
+            "superelevation": self._profile_entry,
             "road": self._road,
         }
 
@@ -84,6 +87,16 @@ class Locator:
         if road is None:
             return None
         return self._track_point(road.id, 0.0 if element.tag == "predecessor" else road.length)
+
+    def _profile_entry(self, element: etree._Element) -> Point | None:
+        """An ``elevation`` or ``superelevation`` entry at its road's track point at its
+        ``s`` (TR010 to TR012 report on them)."""
+        road = self._road_above(element)
+        s = number(element, "s")
+        if road is None or s is None:
+            return None
+        point = self._tracks.point(road, s)
+        return (point.x, point.y) if point is not None else self._placer.track_point(road.id, s)
 
     def _track_point(self, road_id: str | None, s: float | None) -> Point | None:
         """The track point the geometry rules compute, else the map's own placement (a
