@@ -311,6 +311,79 @@ def test_geometry_findings_are_placed_at_the_points_their_messages_name(
     assert _placed(xpath, REPO / "rules" / case) == expected
 
 
+@pytest.mark.parametrize(
+    ("case", "xpath", "expected"),
+    [
+        # an elevation entry at its road's track point at its s: road 1 at s=80, on the
+        # rail lane's centre (centred on the reference line by the lane offset)
+        (
+            "TR010/invalid_full_cubic_reaches_the_next_entry.xodr",
+            "/OpenDRIVE/road[@id='1']/elevationProfile/elevation[3]",
+            (80.0, 0.0),
+        ),
+        # the rail lane's centre, 0.75 m right of the reference line (no lane offset)
+        (
+            "TR011/invalid_rail_and_tram_lanes_take_the_rail_limit.xodr",
+            "/OpenDRIVE/road[@id='1']/elevationProfile/elevation",
+            (0.0, -0.75),
+        ),
+        (
+            "TR012/invalid_each_entry_once.xodr",
+            "/OpenDRIVE/road[@id='1']/lateralProfile/superelevation[3]",
+            (45.0, 0.0),
+        ),
+        # a plan-view record at its start
+        (
+            "TR013/invalid_spiral_tightens_below_the_limit.xodr",
+            "/OpenDRIVE/road[@id='1']/planView/geometry[2]",
+            (20.0, 0.0),
+        ),
+    ],
+)
+def test_profile_entries_are_placed_at_their_track_point(
+    case: str, xpath: str, expected: tuple[float, float]
+) -> None:
+    assert _placed(xpath, REPO / "rules" / case) == expected
+
+
+def test_the_vertical_and_curve_findings_are_on_the_map(tmp_path: Path) -> None:
+    # one track with each of TR010 to TR013: every finding placed where its element is
+    track = ONE_TRACK.format(
+        geometry='<geometry s="0" x="0" y="0" hdg="0" length="50"><arc curvature="0.05"/></geometry>'
+    ).replace(
+        "<lanes>",
+        '<elevationProfile><elevation s="0" a="0" b="0.1" c="0" d="0"/>'
+        '<elevation s="20" a="9" b="0" c="0" d="0"/></elevationProfile>'
+        '<lateralProfile><superelevation s="30" a="0.2" b="0" c="0" d="0"/></lateralProfile>'
+        "<lanes>",
+    )
+    path = tmp_path / "vertical.xodr"
+    path.write_text(MINIMAL.format(roads=track), "utf-8")
+    out = tmp_path / "map.html"
+    result = cli("map", path, "-o", out, "--select", "TR010,TR011,TR012,TR013", code=1)
+    assert result.stderr.endswith("4 of 4 findings placed, 0 items not drawn\n")
+    findings = _page_data(out.read_text("utf-8"))["findings"]
+    assert isinstance(findings, list)
+    placed = {f["code"]: f["at"] for f in findings}
+    assert sorted(placed) == ["TR010", "TR011", "TR012", "TR013"]
+    assert all(at is not None for at in placed.values())
+    # the entries at s=0, 20 and 30 along an arc of radius 20 m, 1.5 m right of it
+    doc = load_bytes(path.read_bytes(), "v")
+    network = build_network(doc.root)
+    locator = Locator(doc, network, Placer(network))
+    road = "/OpenDRIVE/road[@id='9']"
+    for xpath, s in (
+        (f"{road}/elevationProfile/elevation[2]", 20.0),
+        (f"{road}/lateralProfile/superelevation", 30.0),
+    ):
+        point = locator.place(_finding(xpath))
+        radius = 20.0 + 1.5
+        angle = s / 20.0
+        assert point is not None
+        assert point[0] == pytest.approx(radius * math.sin(angle))
+        assert point[1] == pytest.approx(20.0 - radius * math.cos(angle))
+
+
 def test_platform_bars_lie_on_their_side_of_the_track() -> None:
     text = BROKEN.read_text("utf-8").replace('side="up"', 'side="left"')
     html = _render(text)
