@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 
 from xodrlint.api import lint_bytes
 from xodrlint.document import load_bytes
-from xodrlint.geometry.curvature import lane_bends, record_elements
+from xodrlint.geometry.curvature import LaneCurvature, record_elements
 from xodrlint.geometry.tracks import TrackGeometry
 from xodrlint.model import build_network
 
@@ -180,12 +180,16 @@ EXACT = {"line", "arc left", "arc right", "spiral through zero", "spiral tighten
 
 
 def _rule_bend(curve: str, lanes: tuple[Cubic, Cubic]) -> tuple[float, float]:
+    """The tightest bend the rule's geometry finds (infinite radius where it finds none)."""
     network = build_network(load_bytes(_document(curve, lanes), "t.xodr").root)
     road = network.roads[0]
     line = network.shared(TrackGeometry).reference_line(road)
     assert line is not None
-    [found] = lane_bends(road, line)
-    return found.bend.radius, found.bend.s
+    found = list(network.shared(LaneCurvature).bends(road, line))
+    if not found:
+        return math.inf, 0.0
+    [bend] = found
+    return bend.bend.radius, bend.bend.s
 
 
 @pytest.mark.parametrize("lanes", [STEADY, WANDERING], ids=["constant t", "varying t"])

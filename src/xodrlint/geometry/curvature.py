@@ -40,7 +40,7 @@ from xodrlint.geometry.curves import (
     gauss_legendre,
 )
 from xodrlint.geometry.planview import ReferenceLine
-from xodrlint.model import Lane, Road, number
+from xodrlint.model import Lane, RailNetwork, Road, number
 from xodrlint.model.lane_profiles import S_TOLERANCE, Piecewise, Poly, centre_terms
 from xodrlint.model.network import section_ranges
 
@@ -78,38 +78,74 @@ class Stretch(NamedTuple):
     lateral: Poly
 
 
-def lane_bends(road: Road, line: ReferenceLine) -> Iterator[LaneBend]:
-    """Each rail or tram lane of each lane section overlapping each record of ``line``,
-    with its tightest bend there. Lanes whose centre cannot be computed (a lane described
-    by ``border``, an unreadable width or offset) and stretches whose numbers overflow are
-    left out."""
-    template = road.lane_template
-    end = road.length
-    if end is None:
-        span = line.s_range
-        end = span[1] if span is not None else None
-    lanes: list[tuple[Lane, float, list[Stretch]]] = []
+class LaneCurvature:
+    """The rail and tram lane centres of one file's tracks, worked out once per lane
+    layout and road length (a railway repeats a few layouts over thousands of tracks);
+    shared through :meth:`~xodrlint.model.RailNetwork.shared`."""
+
+    def __init__(self, network: RailNetwork) -> None:
+        del network  # taken as RailNetwork.shared makes it; roads are passed per call
+        self._lanes: dict[tuple[Road, float | None], list[_LaneStretches]] = {}
+
+    def bends(
+        self, road: Road, line: ReferenceLine, tighter_than: float = math.inf
+    ) -> Iterator[LaneBend]:
+        """Each rail or tram lane of each lane section overlapping each record of
+        ``line`` whose centre bends more tightly than ``tighter_than`` there, with its
+        tightest bend. Lanes whose centre cannot be computed (a lane described by
+        ``border``, an unreadable width or offset) and stretches whose numbers overflow
+        are left out."""
+        lanes = self._lane_stretches(road, line)
+        if not lanes:
+            return
+        for index, record in enumerate(line.records):
+            low, high = record.s, record.s + record.length
+            straight = isinstance(record, Line)
+            for lane in lanes:
+                if straight and lane.constant:
+                    continue  # a straight line at a constant offset: no bend at all
+                tightest: Bend | None = None
+                for stretch in lane.stretches:
+                    start, stop = max(low, stretch.start), min(high, stretch.end)
+                    if stop - start <= S_TOLERANCE:
+                        continue
+                    bend = tightest_bend(record, start, stop, stretch.lateral)
+                    if bend is not None and (tightest is None or bend.radius < tightest.radius):
+                        tightest = bend
+                if tightest is not None and tightest.radius < tighter_than:
+                    yield LaneBend(index, lane.lane, lane.section_start, tightest)
+
+    def _lane_stretches(self, road: Road, line: ReferenceLine) -> list[_LaneStretches]:
+        template = road.lane_template
+        end = road.length
+        if end is None:  # the last lane section ends where the plan view does
+            span = line.s_range
+            end = span[1] if span is not None else None
+        key = (template, end)
+        found = self._lanes.get(key)
+        if found is None:
+            found = self._lanes[key] = list(_stretches_of(template, end))
+        return found
+
+
+class _LaneStretches(NamedTuple):
+    lane: Lane
+    section_start: float
+    stretches: list[Stretch]
+    constant: bool
+    """``t`` is one constant on every stretch."""
+
+
+def _stretches_of(template: Road, end: float | None) -> Iterator[_LaneStretches]:
     for section, start, stop in section_ranges(template.lane_sections, end):
         for lane in section.rail_lanes:
             terms = centre_terms(template, section, start, lane)
             stretches = lateral_stretches(terms, start, stop) if terms is not None else None
             if stretches:
-                lanes.append((lane, start, stretches))
-    if not lanes:
-        return
-    for index, record in enumerate(line.records):
-        low, high = record.s, record.s + record.length
-        for lane, section_start, stretches in lanes:
-            tightest: Bend | None = None
-            for stretch in stretches:
-                start, stop = max(low, stretch.start), min(high, stretch.end)
-                if stop - start <= S_TOLERANCE:
-                    continue
-                bend = tightest_bend(record, start, stop, stretch.lateral)
-                if bend is not None and (tightest is None or bend.radius < tightest.radius):
-                    tightest = bend
-            if tightest is not None:
-                yield LaneBend(index, lane, section_start, tightest)
+                constant = all(
+                    s.lateral.b == 0 and s.lateral.c == 0 and s.lateral.d == 0 for s in stretches
+                )
+                yield _LaneStretches(lane, start, stretches, constant)
 
 
 def record_elements(road: Road, line: ReferenceLine) -> list[etree._Element] | None:

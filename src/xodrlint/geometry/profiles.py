@@ -105,7 +105,7 @@ class Profile:
     __slots__ = ("entries", "length")
 
     def __init__(self, entries: tuple[Entry, ...], length: float | None) -> None:
-        if all(entry.s is not None for entry in entries):
+        if len(entries) > 1 and all(entry.s is not None for entry in entries):
             entries = tuple(sorted(entries, key=lambda entry: entry.s or 0.0))
         self.entries = entries
         self.length = length
@@ -171,38 +171,39 @@ class VerticalProfiles:
 
     def __init__(self, network: RailNetwork) -> None:
         del network  # taken as RailNetwork.shared makes it; roads are passed per call
-        self._elevations: dict[Road, Profile] = {}
-        self._superelevations: dict[Road, Profile] = {}
+        self._profiles: dict[Road, tuple[Profile, Profile]] = {}
 
     def elevation(self, road: Road) -> Profile:
         """The road's elevation profile (``elevationProfile/elevation``)."""
-        found = self._elevations.get(road)
-        if found is None:
-            found = self._elevations[road] = _profile(road, "elevationProfile", "elevation")
-        return found
+        return self._read(road)[0]
 
     def superelevation(self, road: Road) -> Profile:
         """The road's superelevation (``lateralProfile/superelevation``, roll angle in rad)."""
-        found = self._superelevations.get(road)
-        if found is None:
-            found = self._superelevations[road] = _profile(road, "lateralProfile", "superelevation")
-        return found
+        return self._read(road)[1]
 
     def elevation_at(self, road: Road, s: float) -> float | None:
         """The reference line's elevation of ``road`` at ``s``; ``None`` where it cannot be
         evaluated (see :meth:`Profile.value_at`)."""
         if not math.isfinite(s):
             return None
-        return self.elevation(road).value_at(s)
+        return self._read(road)[0].value_at(s)
 
-
-def _profile(road: Road, parent: str, tag: str) -> Profile:
-    entries = tuple(
-        _entry(element)
-        for container in road.element.iterchildren(parent)
-        for element in container.iterchildren(tag)
-    )
-    return Profile(entries, road.length)
+    def _read(self, road: Road) -> tuple[Profile, Profile]:
+        found = self._profiles.get(road)
+        if found is None:
+            # both kinds in one pass over the road's children: most tracks have neither
+            elevation: list[Entry] = []
+            superelevation: list[Entry] = []
+            for container in road.element.iterchildren("elevationProfile", "lateralProfile"):
+                if container.tag == "elevationProfile":
+                    elevation.extend(map(_entry, container.iterchildren("elevation")))
+                else:
+                    superelevation.extend(map(_entry, container.iterchildren("superelevation")))
+            found = self._profiles[road] = (
+                Profile(tuple(elevation), road.length) if elevation else _NO_ENTRIES,
+                Profile(tuple(superelevation), road.length) if superelevation else _NO_ENTRIES,
+            )
+        return found
 
 
 def _entry(element: etree._Element) -> Entry:
@@ -240,3 +241,7 @@ def _largest(
         if best is None or abs(value) > abs(best[0]):
             best = (value, s)
     return best
+
+
+#: A road without entries: the value 0 everywhere, nothing to judge.
+_NO_ENTRIES: Final = Profile((), None)

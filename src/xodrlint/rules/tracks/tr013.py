@@ -92,17 +92,18 @@ MIN_TRAM: Final = RuleOption(
     defers_to=("TR014",),
 )
 def track_radius_too_small(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
-    from xodrlint.geometry.curvature import lane_bends, record_elements
+    from xodrlint.geometry.curvature import LaneCurvature, record_elements
     from xodrlint.geometry.tracks import TrackGeometry
 
     limits = {"rail": MIN_RAIL.number(settings), "tram": MIN_TRAM.number(settings)}
-    tracks = network.shared(TrackGeometry)
+    tracks, curvature = network.shared(TrackGeometry), network.shared(LaneCurvature)
+    tightest_limit = max(limits.values())
     for road in network.rail_roads:
         line = tracks.reference_line(road)
         if line is None:
             continue
         tightest: dict[int, LaneBend] = {}  # by the record's index
-        for found in lane_bends(road, line):
+        for found in curvature.bends(road, line, tightest_limit):
             limit = limits.get(str(found.lane.type), 0.0)
             if found.bend.radius >= limit - S_TOLERANCE:
                 continue
