@@ -100,10 +100,16 @@ class LaneCurvature:
             return
         for index, record in enumerate(line.records):
             low, high = record.s, record.s + record.length
-            straight = isinstance(record, Line)
+            sharpest = record.max_curvature()  # None where not known in closed form
             for lane in lanes:
-                if straight and lane.constant:
-                    continue  # a straight line at a constant offset: no bend at all
+                # at a constant offset t the radius is 1/k - |t| at least: most records of
+                # a railway are judged by this bound alone
+                if (
+                    lane.reach is not None
+                    and sharpest is not None
+                    and (sharpest == 0 or 1 / sharpest - lane.reach >= tighter_than)
+                ):
+                    continue
                 tightest: Bend | None = None
                 for stretch in lane.stretches:
                     start, stop = max(low, stretch.start), min(high, stretch.end)
@@ -132,8 +138,8 @@ class _LaneStretches(NamedTuple):
     lane: Lane
     section_start: float
     stretches: list[Stretch]
-    constant: bool
-    """``t`` is one constant on every stretch."""
+    reach: float | None
+    """The largest ``|t|`` where ``t`` is one constant on every stretch, else ``None``."""
 
 
 def _stretches_of(template: Road, end: float | None) -> Iterator[_LaneStretches]:
@@ -145,7 +151,8 @@ def _stretches_of(template: Road, end: float | None) -> Iterator[_LaneStretches]
                 constant = all(
                     s.lateral.b == 0 and s.lateral.c == 0 and s.lateral.d == 0 for s in stretches
                 )
-                yield _LaneStretches(lane, start, stretches, constant)
+                reach = max(abs(s.lateral.a) for s in stretches) if constant else None
+                yield _LaneStretches(lane, start, stretches, reach)
 
 
 def record_elements(road: Road, line: ReferenceLine) -> list[etree._Element] | None:

@@ -116,6 +116,10 @@ def joint_steps(
     """The steps at joints: each joint once, judged by its link and the two ends it joins
     (a joint's ``link``, ``first``, ``first_end``, ``second`` and ``second_end``)."""
     for joint in joints(network):
+        if not (
+            profiles.elevation(joint.first).entries or profiles.elevation(joint.second).entries
+        ):
+            continue  # both ends at elevation 0
         ends = []
         for road, end in ((joint.first, joint.first_end), (joint.second, joint.second_end)):
             s = 0.0 if end == "start" else road.length
