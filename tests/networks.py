@@ -3,8 +3,8 @@
 Each unit is a crossover: two parallel tracks, a side track between them, two partner
 switches, and a station with one platform on the first track. The side track is a
 balloon loop: it leaves the first track at its switch heading the same way, turns on a
-semicircle and ends at the second track's switch heading back, so both switches fit
-together (SW011, SW012).
+semicircle of radius 30 m (a curve a train can run: TR013) and ends at the second
+track's switch heading back, so both switches fit together (SW011, SW012).
 """
 
 from __future__ import annotations
@@ -77,6 +77,12 @@ STATION = """  <station name="S{id}" id="{id}" type="small">
 """
 
 
+#: The distance between a unit's two tracks: the balloon loop's diameter.
+LOOP_WIDTH = 60
+#: The distance between the first tracks of two units.
+UNIT_SPACING = 80
+
+
 def network(units: int, minor: int = 7) -> bytes:
     roads: list[str] = []
     stations: list[str] = []
@@ -86,17 +92,19 @@ def network(units: int, minor: int = 7) -> bytes:
         roads.append(
             rail_road(
                 first,
-                y=unit * 20,
+                y=unit * UNIT_SPACING,
                 railroad=SWITCH.format(
                     id=switch_a, main=first, side=side, side_s=0, side_dir="+", partner=switch_b
                 ),
             )
         )
-        roads.append(rail_road(side, geometry=balloon_loop(50, unit * 20, 10, 200)))
+        roads.append(
+            rail_road(side, geometry=balloon_loop(50, unit * UNIT_SPACING, LOOP_WIDTH, 200))
+        )
         roads.append(
             rail_road(
                 second,
-                y=unit * 20 + 10,
+                y=unit * UNIT_SPACING + LOOP_WIDTH,
                 railroad=SWITCH.format(
                     id=switch_b, main=second, side=side, side_s=200, side_dir="-", partner=switch_a
                 ),

@@ -63,7 +63,10 @@ def test_libopendrive_railways_findings(official: bool) -> None:
 @needs_shared
 def test_sumo_rail_export_puts_the_reference_line_at_the_lane_edge() -> None:
     findings = _lint(CORPUS_RAIL / "SUMO-gen_game-rail.xodr", official=False)
-    assert Counter(code for _, code in findings) == {"RL002": 120}
+    # TR013: this toy layout's paramPoly3 bends (and the turns of its junctions) bend the
+    # rail lanes' centres at 1.4 to 17 m; in 8 junction turns of 1.5 m the lane, 1.6 m
+    # right of the reference line, lies beyond its centre of curvature (folded, radius 0)
+    assert Counter(code for _, code in findings) == {"RL002": 120, "TR013": 48}
 
 
 @pytest.mark.parametrize(

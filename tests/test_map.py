@@ -338,9 +338,14 @@ def test_geometry_findings_are_placed_at_the_points_their_messages_name(
         ("TR008/invalid_gap_between_records.xodr", "TR008", [(100.0, 0.15)]),
         # a length that is not the plan view's at the plan view's end, not the middle (50, 0)
         ("TR009/invalid_length_longer_than_plan_view.xodr", "TR009", [(100.0, 0.0)]),
-        # profile entries on the reference line at their s; one whose s is no number by its
-        # road (the middle)
-        ("TR014/invalid_profile_entries.xodr", "TR014", [(40.0, 0.0), (50.0, 0.0), (50.0, 0.0)]),
+        # profile entries at their road's track point at their s (the rail lane's centre,
+        # 0.75 m right of the reference line); one whose s is no number by its road (the
+        # middle of its reference line)
+        (
+            "TR014/invalid_profile_entries.xodr",
+            "TR014",
+            [(40.0, -0.75), (50.0, 0.0), (50.0, -0.75)],
+        ),
         # an unreadable record at its start; one whose start is no number on a track with no
         # other record has no place on the map (the page counts it as not placed)
         (
@@ -362,6 +367,79 @@ def test_a_track_s_plan_view_findings_are_placed_where_the_defect_is(
     assert [
         (round(point[0], 6), round(point[1], 6)) if point is not None else None for point in placed
     ] == expected
+
+
+@pytest.mark.parametrize(
+    ("case", "xpath", "expected"),
+    [
+        # an elevation entry at its road's track point at its s: road 1 at s=80, on the
+        # rail lane's centre (centred on the reference line by the lane offset)
+        (
+            "TR010/invalid_full_cubic_reaches_the_next_entry.xodr",
+            "/OpenDRIVE/road[@id='1']/elevationProfile/elevation[3]",
+            (80.0, 0.0),
+        ),
+        # the rail lane's centre, 0.75 m right of the reference line (no lane offset)
+        (
+            "TR011/invalid_rail_and_tram_lanes_take_the_rail_limit.xodr",
+            "/OpenDRIVE/road[@id='1']/elevationProfile/elevation",
+            (0.0, -0.75),
+        ),
+        (
+            "TR012/invalid_each_entry_once.xodr",
+            "/OpenDRIVE/road[@id='1']/lateralProfile/superelevation[3]",
+            (45.0, 0.0),
+        ),
+        # a plan-view record at its start
+        (
+            "TR013/invalid_spiral_tightens_below_the_limit.xodr",
+            "/OpenDRIVE/road[@id='1']/planView/geometry[2]",
+            (20.0, 0.0),
+        ),
+    ],
+)
+def test_profile_entries_are_placed_at_their_track_point(
+    case: str, xpath: str, expected: tuple[float, float]
+) -> None:
+    assert _placed(xpath, REPO / "rules" / case) == expected
+
+
+def test_the_vertical_and_curve_findings_are_on_the_map(tmp_path: Path) -> None:
+    # one track with each of TR010 to TR013: every finding placed where its element is
+    track = ONE_TRACK.format(
+        geometry='<geometry s="0" x="0" y="0" hdg="0" length="50"><arc curvature="0.05"/></geometry>'
+    ).replace(
+        "<lanes>",
+        '<elevationProfile><elevation s="0" a="0" b="0.1" c="0" d="0"/>'
+        '<elevation s="20" a="9" b="0" c="0" d="0"/></elevationProfile>'
+        '<lateralProfile><superelevation s="30" a="0.2" b="0" c="0" d="0"/></lateralProfile>'
+        "<lanes>",
+    )
+    path = tmp_path / "vertical.xodr"
+    path.write_text(MINIMAL.format(roads=track), "utf-8")
+    out = tmp_path / "map.html"
+    result = cli("map", path, "-o", out, "--select", "TR010,TR011,TR012,TR013", code=1)
+    assert result.stderr.endswith("4 of 4 findings placed, 0 items not drawn\n")
+    findings = _page_data(out.read_text("utf-8"))["findings"]
+    assert isinstance(findings, list)
+    placed = {f["code"]: f["at"] for f in findings}
+    assert sorted(placed) == ["TR010", "TR011", "TR012", "TR013"]
+    assert all(at is not None for at in placed.values())
+    # the entries at s=0, 20 and 30 along an arc of radius 20 m, 1.5 m right of it
+    doc = load_bytes(path.read_bytes(), "v")
+    network = build_network(doc.root)
+    locator = Locator(doc, network, Placer(network))
+    road = "/OpenDRIVE/road[@id='9']"
+    for xpath, s in (
+        (f"{road}/elevationProfile/elevation[2]", 20.0),
+        (f"{road}/lateralProfile/superelevation", 30.0),
+    ):
+        point = locator.place(_finding(xpath))
+        radius = 20.0 + 1.5
+        angle = s / 20.0
+        assert point is not None
+        assert point[0] == pytest.approx(radius * math.sin(angle))
+        assert point[1] == pytest.approx(20.0 - radius * math.cos(angle))
 
 
 def test_platform_bars_lie_on_their_side_of_the_track() -> None:
@@ -410,8 +488,10 @@ def test_the_berlin_map_renders_in_seconds_into_a_page_of_reasonable_size(tmp_pa
     # 109 tracks; findings: one on each of them, TR001 on the two links of the junction
     # road 13515, whose tram lane runs against both tracks it joins (the gap silences
     # TR002 there), TR007 on road 15024, whose tram lane continues as a restricted lane,
-    # and TR009 on road 13479, 0.1 m long by its @length and 0.087 m by its plan view
-    assert _count(svg, "track") == 109 and _count(svg, "finding") == 113
+    # TR009 on road 13479, 0.1 m long by its @length and 0.087 m by its plan view, and
+    # TR013 on 111 of the short paramPoly3 records that fit the tram lines, bending below
+    # 13 m
+    assert _count(svg, "track") == 109 and _count(svg, "finding") == 113 + 111
     assert size < 2_000_000
     assert seconds < 30  # about 5 s on a 2-core machine; the margin is for a busy CI
 

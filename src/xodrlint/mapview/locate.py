@@ -1,11 +1,11 @@
 """Where a finding goes on the map: the element its XPath names, placed by what it is (a
 switch at its point, a segment at its middle, a lane or lane section at its start, a
-geometry record at its start, an elevation or superelevation entry on the reference line
-at its s, a road link at the road end it joins, a lane link at the end of its lane, a
-junction's lane link where it enters its connecting road, a road at its middle, or at its
-plan view's end for a finding about its length), or else by its nearest ancestor that has
-a place. Switch tracks and road links are placed at the track points the track-geometry
-rules name in their messages."""
+geometry record at its start, an elevation or superelevation entry at its road's track
+point at its s, a road link at the road end it joins, a lane link at the end of its lane,
+a junction's lane link where it enters its connecting road, a road at its middle, or at
+its plan view's end for a finding about its length), or else by its nearest ancestor
+that has a place. Switch tracks and road links are placed at the track points the
+track-geometry rules name in their messages."""
 
 from __future__ import annotations
 
@@ -120,6 +120,16 @@ class Locator:
         at_end = connection.get("contactPoint") == "end"
         return self._track_point(road.id, road.length if at_end else 0.0)
 
+    def _profile_entry(self, element: etree._Element) -> Point | None:
+        """An ``elevation`` or ``superelevation`` entry at its road's track point at its
+        ``s`` (TR010 to TR012 report on them)."""
+        road = self._road_above(element)
+        s = number(element, "s")
+        if road is None or s is None:
+            return None
+        point = self._tracks.point(road, s)
+        return (point.x, point.y) if point is not None else self._placer.track_point(road.id, s)
+
     def _track_point(self, road_id: str | None, s: float | None) -> Point | None:
         """The track point the geometry rules compute, else the map's own placement (a
         road whose plan view they cannot evaluate may still be drawn in part)."""
@@ -153,12 +163,6 @@ class Locator:
             if section.element is element:
                 return self._placer.section_start(road, section)
         return None
-
-    def _profile_entry(self, element: etree._Element) -> Point | None:
-        """An elevation or superelevation entry on the reference line where it starts."""
-        road = self._road_above(element)
-        s = number(element, "s")
-        return self._placer.point(road, s) if road is not None and s is not None else None
 
     def _road(self, element: etree._Element) -> Point | None:
         road = self._placer.road_of(element)

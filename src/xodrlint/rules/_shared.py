@@ -13,6 +13,7 @@ from xodrlint.model.lane_profiles import S_TOLERANCE
 
 __all__ = [
     "S_TOLERANCE",
+    "below",
     "beyond",
     "degrees",
     "later_duplicates",
@@ -61,6 +62,16 @@ def beyond(value: float, limit: float, places: int) -> str:
     for digits in range(places, 12):
         text = f"{value:.{digits}f}".rstrip("0").rstrip(".")
         if float(text) > limit:
+            return text
+    return repr(value)
+
+
+def below(value: float, limit: float, places: int) -> str:
+    """``value`` for a message saying it falls short of ``limit``: to ``places`` decimals,
+    or as many more as it takes not to read as the limit itself (24.9999 against 25)."""
+    for digits in range(places, 12):
+        text = f"{value:.{digits}f}".rstrip("0").rstrip(".")
+        if float(text) < limit:
             return text
     return repr(value)
 
