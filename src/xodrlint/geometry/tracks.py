@@ -73,6 +73,9 @@ class TrackGeometry:
         self._constant_lateral: dict[Road, float | None] = {}
         # a switch's point is asked for by the map as well as the rules
         self._points: dict[tuple[Road, float], TrackPoint | None] = {}
+        # per lane of a lane layout's section: its centre's t where it is the same all
+        # along the section (a railway's joints ask for thousands, of a few layouts)
+        self._constant_centres: dict[tuple[int, int | None], float | None] = {}
 
     def point(self, road: Road, s: float) -> TrackPoint | None:
         """The track point of ``road`` at ``s``; ``None`` where it cannot be evaluated."""
@@ -90,6 +93,13 @@ class TrackGeometry:
         (a joint judges each pair of joined lanes at their own centres); ``section`` and
         ``lane`` are read from ``road``'s lane template. ``None`` where the lane's centre
         or the plan view cannot be evaluated."""
+        key = (id(section), lane.id)
+        try:
+            constant = self._constant_centres[key]
+        except KeyError:
+            constant = self._constant_centres[key] = _constant_centre(road, section, lane)
+        if constant is not None and section.s is not None and s >= section.s - S_TOLERANCE:
+            return self._evaluate(road, s, lambda: constant)
         return self._evaluate(road, s, lambda: _lane_centre(road, section, lane, s))
 
     def _evaluate(
@@ -143,6 +153,32 @@ class TrackGeometry:
         draws a record whose own length is unreadable up to the next one; a rule judges
         nothing it would have to guess)."""
         return self.plan_view(road).line
+
+
+def _constant_centre(road: Road, section: LaneSection, lane: Lane) -> float | None:
+    """The t of ``lane``'s centre where the road's offset and the widths out to the lane
+    are each one constant entry from the section's start: the same at every s of the
+    section. ``None`` for any other layout (evaluated where asked instead)."""
+    template = road.lane_template
+    lanes = template.lanes
+    start = section.s
+    if start is None or lane.id is None or lane.id == 0 or not lanes.offsets_complete:
+        return None
+    if len(lanes.offsets) > 1 or not all(_constant_from(c, start, 0.0) for c in lanes.offsets):
+        return None
+    depth = abs(lane.id)
+    inner: dict[int, Lane] = {}
+    for other in section.lanes:
+        if other.side == lane.side and other.id is not None and 0 < abs(other.id) <= depth:
+            inner.setdefault(other.id, other)
+    if len(inner) != depth or not all(
+        other.widths_complete
+        and len(other.widths) == 1
+        and _constant_from(other.widths[0], 0.0, 0.0)
+        for other in inner.values()
+    ):
+        return None
+    return _lane_centre(road, section, lane, start)
 
 
 def _lane_centre(road: Road, section: LaneSection, lane: Lane, s: float) -> float | None:

@@ -41,12 +41,16 @@ def lane_link_targets(network: RailNetwork, links: Sequence[TrackLink]) -> Itera
                 if not lane.is_rail:
                     continue
                 source = LaneEnd(road, section_index, lane_index, section, lane)
-                for kind in ("predecessor", "successor"):
+                for kind, lane_links in (
+                    ("predecessor", lane.predecessors),
+                    ("successor", lane.successors),
+                ):
+                    if not lane_links:
+                        continue  # most tracks of a railway link no lanes: nothing to find
                     target = _pointed_section(road, sections, section_index, kind, at_end)
                     if target is None:
                         continue
                     target_road, target_section, where, crossing = target
-                    lane_links = lane.predecessors if kind == "predecessor" else lane.successors
                     for index, lane_link in enumerate(lane_links):
                         if lane_link.id is None:
                             continue  # not an integer: the schema reports it
