@@ -7,7 +7,6 @@ from __future__ import annotations
 import hashlib
 import io
 import re
-import shlex
 import tarfile
 import tomllib
 import zipfile
@@ -209,14 +208,44 @@ def test_releasing_builds_and_checks_as_ci_does() -> None:
         assert step in releasing, step
 
 
-def test_ci_runs_the_readme_set_up_commands() -> None:
+def _readme_set_up() -> list[str]:
+    """The README's set-up commands from a clone (its "Set-up" section, subsections
+    included): the shell blocks that make the ``.venv`` the suite runs in."""
     readme = (REPO / "README.md").read_text("utf-8")
-    ci = (REPO / ".ci" / "run").read_text("utf-8")
-    example, tests = (
-        block.strip() for block in _blocks(readme.split("## Set-up", 1)[1], "sh")[1:3]
-    )
-    assert "xodrlint check examples/" in example
-    install, run_tests = tests.split(" && ")[1:]
-    assert shlex.split(install)[-2:] == ["-e", ".[dev]"]
-    assert "pip install --quiet -e '.[dev]'" in ci
-    assert f"\n{run_tests}\n" in ci
+    section = readme.split("\n## Set-up\n", 1)[1].split("\n## ", 1)[0]
+    blocks = [block.strip() for block in _blocks(section, "sh")]
+    return [block for block in blocks if block.startswith("python3 -m venv .venv ")]
+
+
+def _ci_commands() -> list[str]:
+    """.ci/run's lines that run something, in order: no comments, no blank lines, a line
+    continued with a backslash joined to the next."""
+    text = (REPO / ".ci" / "run").read_text("utf-8").replace("\\\n", "")
+    return [
+        line for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")
+    ]
+
+
+def test_ci_runs_the_readme_set_up_commands_as_written_before_anything_else() -> None:
+    example, tests = _readme_set_up()
+    assert "pip install . " in example and "xodrlint check examples/" in example
+    assert "pip install -e '.[dev]' " in tests
+    assert tests.endswith(" -m pytest -q -p no:cacheprovider")
+    # the shell's set-up, then the two commands verbatim: no pip, no upgrade before them;
+    # `|| exit` ends the run where a command before an `&&` fails (set -e does not)
+    assert _ci_commands()[:4] == [
+        "set -euo pipefail",
+        'cd "$(dirname "$0")/.."',
+        f"{example} || exit",
+        f"{tests} || exit",
+    ]
+
+
+def test_ci_runs_the_whole_suite_once() -> None:
+    """The README's test command runs the suite; the other pytest runs of .ci/run name
+    their tests (those whose prerequisites come later) or run in the example pack."""
+    runs = [line for line in _ci_commands() if " -m pytest " in line or line.endswith(" -m pytest")]
+    whole = [line for line in runs if re.search(r"-m pytest -q -p no:cacheprovider( \|\||$)", line)]
+    assert whole == [f"{_readme_set_up()[1]} || exit"]
+    for line in runs:
+        assert line in whole or "tests/" in line or "cd examples/rulepack" in line, line
