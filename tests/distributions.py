@@ -3,9 +3,11 @@
 The wheel holds exactly the package as git tracks it under ``src/xodrlint/``: every
 module and every data file (the built-in XSDs, the map's page, style and script,
 ``py.typed``), nothing left over from an earlier build; the sdist holds every file of the
-repository (``MANIFEST.in``). Both carry the version of ``xodrlint.__version__``. A
-package-data glob dropped from ``pyproject.toml`` makes the wheel lack a data file, and
-this says which. It reads the tree it lies in, never an installed xodrlint. ``.ci/run`` runs it after ``python -m build``, as docs/releasing.md does::
+repository (``MANIFEST.in``). Both carry the version of ``xodrlint.__version__``, and the
+licence files that ``license-files`` in ``pyproject.toml`` names, as they are in the
+repository and declared in the metadata (``License-File``): the sdist at their paths, the
+wheel under ``.dist-info/licenses/``. A package-data glob dropped from ``pyproject.toml``
+makes the wheel lack a data file, and this says which. It reads the tree it lies in, never an installed xodrlint. ``.ci/run`` runs it after ``python -m build``, as docs/releasing.md does::
 
     python -m tests.distributions dist
 """
@@ -18,7 +20,8 @@ import sys
 import tarfile
 import tomllib
 import zipfile
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable, Mapping
+from email.parser import HeaderParser
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
@@ -29,6 +32,48 @@ def project_name(repo: Path = REPO) -> str:
     with (repo / "pyproject.toml").open("rb") as handle:
         name: str = tomllib.load(handle)["project"]["name"]
     return name
+
+
+def license_files(repo: Path = REPO) -> dict[str, bytes]:
+    """The files ``license-files`` names (globs, as PEP 639 has them), by their
+    ``/``-separated path in the repository, with their content."""
+    with (repo / "pyproject.toml").open("rb") as handle:
+        patterns: list[str] = tomllib.load(handle)["project"].get("license-files", [])
+    return {
+        path.relative_to(repo).as_posix(): path.read_bytes()
+        for pattern in patterns
+        for path in sorted(repo.glob(pattern))
+        if path.is_file()
+    }
+
+
+def _license_problems(
+    label: str,
+    inside: Callable[[str], bytes | None],
+    metadata: bytes | None,
+    prefix: str,
+    licenses: Mapping[str, bytes],
+) -> list[str]:
+    """Each licence file missing at ``prefix + path`` (``inside`` reads an entry of the
+    archive, ``None`` where there is none), differing from the repository's, or not
+    declared as a ``License-File`` in ``metadata``."""
+    if not licenses:
+        return ["pyproject.toml: license-files names no file of the repository"]
+    declared = (
+        HeaderParser().parsestr(metadata.decode("utf-8")).get_all("License-File", [])
+        if metadata is not None
+        else []
+    )
+    problems = []
+    for path, text in sorted(licenses.items()):
+        held = inside(prefix + path)
+        if held is None:
+            problems.append(f"{label}: lacks the licence file {prefix}{path}")
+        elif held != text:
+            problems.append(f"{label}: {prefix}{path} is not the repository's {path}")
+        if metadata is not None and path not in declared:
+            problems.append(f"{label}: its metadata declares no License-File: {path}")
+    return problems
 
 
 def source_version(repo: Path = REPO) -> str:
@@ -52,11 +97,26 @@ def tracked_files(repo: Path = REPO) -> list[str]:
     return sorted(name for name in listed.decode("utf-8").split("\0") if name)
 
 
-def wheel_problems(wheel: Path, tracked: Iterable[str], name: str, version: str) -> list[str]:
-    """What is wrong with ``wheel``: each file of the package it lacks or has beyond it."""
+def wheel_problems(
+    wheel: Path,
+    tracked: Iterable[str],
+    name: str,
+    version: str,
+    licenses: Mapping[str, bytes] | None = None,
+) -> list[str]:
+    """What is wrong with ``wheel``: each file of the package it lacks or has beyond it,
+    and each of ``licenses`` (default: the repository's) it lacks in its .dist-info."""
     metadata = f"{name}-{version}.dist-info/"
+    licenses = license_files() if licenses is None else licenses
     with zipfile.ZipFile(wheel) as archive:
         inside = {entry for entry in archive.namelist() if not entry.endswith("/")}
+
+        def read(entry: str) -> bytes | None:
+            return archive.read(entry) if entry in inside else None
+
+        license_problems = _license_problems(
+            wheel.name, read, read(f"{metadata}METADATA"), f"{metadata}licenses/", licenses
+        )
     held = {entry for entry in inside if not entry.startswith(metadata)}
     wanted = {path.removeprefix("src/") for path in tracked if path.startswith(PACKAGE)}
     problems = [f"{wheel.name}: lacks {path}" for path in sorted(wanted - held)]
@@ -65,18 +125,34 @@ def wheel_problems(wheel: Path, tracked: Iterable[str], name: str, version: str)
     ]
     if f"{metadata}METADATA" not in inside:
         problems.append(f"{wheel.name}: lacks {metadata}METADATA (not version {version}?)")
-    return problems
+    return problems + license_problems
 
 
-def sdist_problems(sdist: Path, tracked: Iterable[str], name: str, version: str) -> list[str]:
-    """What is wrong with ``sdist``: each file of the repository it lacks."""
+def sdist_problems(
+    sdist: Path,
+    tracked: Iterable[str],
+    name: str,
+    version: str,
+    licenses: Mapping[str, bytes] | None = None,
+) -> list[str]:
+    """What is wrong with ``sdist``: each file of the repository it lacks, and each of
+    ``licenses`` (default: the repository's) it lacks or holds changed."""
     top = f"{name}-{version}/"
+    licenses = license_files() if licenses is None else licenses
     with tarfile.open(sdist) as archive:
-        inside = {member.name.removeprefix(top) for member in archive if member.isfile()}
+        members = {member.name: member for member in archive if member.isfile()}
+        inside = {entry.removeprefix(top) for entry in members}
+
+        def read(entry: str) -> bytes | None:
+            member = members.get(top + entry)
+            held = archive.extractfile(member) if member is not None else None
+            return held.read() if held is not None else None
+
+        license_problems = _license_problems(sdist.name, read, read("PKG-INFO"), "", licenses)
     problems = [f"{sdist.name}: lacks {path}" for path in sorted(set(tracked) - inside)]
     if "PKG-INFO" not in inside:
         problems.append(f"{sdist.name}: lacks {top}PKG-INFO (not version {version}?)")
-    return problems
+    return problems + license_problems
 
 
 def check(folder: Path, repo: Path = REPO) -> list[str]:
@@ -106,7 +182,7 @@ def main(argv: list[str]) -> int:
     for problem in problems:
         print(f"distributions: {problem}", file=sys.stderr)
     if not problems:
-        print(f"distributions: {argv[0]}: the wheel and the sdist hold every file")
+        print(f"distributions: {argv[0]}: the wheel and the sdist hold every file and the licence")
     return 1 if problems else 0
 
 

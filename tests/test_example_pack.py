@@ -1,8 +1,8 @@
 """The worked example pack (examples/rulepack/) passes its own tests, the command-line ones
 included, as pip would install it: a .dist-info in a folder of this test's own, on the
 child's search path. Nothing is installed into the environment running the suite (other
-runs share it); CI also installs the pack for real into its venv and runs the same tests
-(.ci/run)."""
+runs share it); CI also installs the pack for real, beside the built wheel of xodrlint in
+an environment of their own, and runs the same tests (.ci/run)."""
 
 from __future__ import annotations
 

@@ -4,9 +4,9 @@ agreeing with .ci/run and the README."""
 
 from __future__ import annotations
 
+import hashlib
 import io
 import re
-import shlex
 import tarfile
 import tomllib
 import zipfile
@@ -16,6 +16,7 @@ from pathlib import Path
 from .conftest import REPO
 from .distributions import (
     check,
+    license_files,
     main,
     project_name,
     sdist_problems,
@@ -33,19 +34,52 @@ ESSENTIAL_DATA = (
 )
 TRACKED = tracked_files()
 PACKAGE_FILES = sorted(p.removeprefix("src/") for p in TRACKED if p.startswith("src/xodrlint/"))
+LICENSES = license_files()
+#: MD5 of the Apache License 2.0 as apache.org publishes it (LICENSE-2.0.txt), the text
+#: Debian ships as /usr/share/common-licenses/Apache-2.0.
+APACHE_2_MD5 = "3b83ef96387f14655fc854ddc3c6bd57"
 
 
-def _wheel(path: Path, names: Iterable[str], version: str = "9.9.9") -> Path:
+def _metadata(licenses: Iterable[str]) -> bytes:
+    lines = ["Metadata-Version: 2.4", "Name: xodrlint", *(f"License-File: {p}" for p in licenses)]
+    return "\n".join([*lines, "", ""]).encode("utf-8")
+
+
+def _wheel(
+    path: Path,
+    names: Iterable[str],
+    version: str = "9.9.9",
+    licenses: dict[str, bytes] = LICENSES,
+    declared: Iterable[str] | None = None,
+) -> Path:
+    info = f"xodrlint-{version}.dist-info/"
     with zipfile.ZipFile(path, "w") as archive:
-        for name in [*names, f"xodrlint-{version}.dist-info/METADATA"]:
+        for name in names:
             archive.writestr(name, "")
+        archive.writestr(f"{info}METADATA", _metadata(licenses if declared is None else declared))
+        for name, text in licenses.items():
+            archive.writestr(f"{info}licenses/{name}", text)
     return path
 
 
-def _sdist(path: Path, names: Iterable[str], version: str = "9.9.9") -> Path:
+def _sdist(
+    path: Path,
+    names: Iterable[str],
+    version: str = "9.9.9",
+    licenses: dict[str, bytes] = LICENSES,
+) -> Path:
+    def add(archive: tarfile.TarFile, name: str, data: bytes) -> None:
+        member = tarfile.TarInfo(f"xodrlint-{version}/{name}")
+        member.size = len(data)
+        archive.addfile(member, io.BytesIO(data))
+
     with tarfile.open(path, "w:gz") as archive:
-        for name in [*names, "PKG-INFO"]:
-            archive.addfile(tarfile.TarInfo(f"xodrlint-{version}/{name}"), io.BytesIO(b""))
+        for name in names:
+            add(archive, name, licenses.get(name, b""))
+        for name, text in licenses.items():
+            if name not in names:
+                add(archive, name, text)
+        add(archive, "PKG-INFO", _metadata(licenses))
     return path
 
 
@@ -81,6 +115,52 @@ def test_an_sdist_without_the_files_of_the_repository_is_caught(tmp_path: Path) 
     partial = _sdist(tmp_path / "partial.tar.gz", [p for p in TRACKED if p not in left_out])
     assert sdist_problems(partial, TRACKED, "xodrlint", "9.9.9") == [
         f"partial.tar.gz: lacks {name}" for name in sorted(left_out)
+    ]
+
+
+def test_the_licence_is_the_apache_license_2_0_that_pyproject_declares() -> None:
+    with (REPO / "pyproject.toml").open("rb") as handle:
+        project = tomllib.load(handle)["project"]
+    assert project["license"] == "Apache-2.0"
+    assert list(LICENSES) == ["LICENSE"] == project["license-files"]
+    assert "LICENSE" in TRACKED
+    assert hashlib.md5(LICENSES["LICENSE"], usedforsecurity=False).hexdigest() == APACHE_2_MD5
+
+
+def test_a_wheel_without_the_licence_is_caught(tmp_path: Path) -> None:
+    assert (
+        wheel_problems(_wheel(tmp_path / "a.whl", PACKAGE_FILES), TRACKED, "xodrlint", "9.9.9")
+        == []
+    )
+    info = "xodrlint-9.9.9.dist-info/"
+    bare = _wheel(tmp_path / "bare.whl", PACKAGE_FILES, licenses={})
+    assert wheel_problems(bare, TRACKED, "xodrlint", "9.9.9") == [
+        f"bare.whl: lacks the licence file {info}licenses/LICENSE",
+        "bare.whl: its metadata declares no License-File: LICENSE",
+    ]
+    other = _wheel(tmp_path / "other.whl", PACKAGE_FILES, licenses={"LICENSE": b"MIT"})
+    assert wheel_problems(other, TRACKED, "xodrlint", "9.9.9") == [
+        f"other.whl: {info}licenses/LICENSE is not the repository's LICENSE"
+    ]
+    undeclared = _wheel(tmp_path / "undeclared.whl", PACKAGE_FILES, declared=[])
+    assert wheel_problems(undeclared, TRACKED, "xodrlint", "9.9.9") == [
+        "undeclared.whl: its metadata declares no License-File: LICENSE"
+    ]
+
+
+def test_an_sdist_without_the_licence_is_caught(tmp_path: Path) -> None:
+    assert (
+        sdist_problems(_sdist(tmp_path / "a.tar.gz", TRACKED), TRACKED, "xodrlint", "9.9.9") == []
+    )
+    others = [name for name in TRACKED if name not in LICENSES]
+    bare = _sdist(tmp_path / "bare.tar.gz", others, licenses={})
+    assert sdist_problems(bare, TRACKED, "xodrlint", "9.9.9") == [
+        "bare.tar.gz: lacks LICENSE",
+        "bare.tar.gz: lacks the licence file LICENSE",
+        "bare.tar.gz: its metadata declares no License-File: LICENSE",
+    ]
+    assert sdist_problems(bare, others, "xodrlint", "9.9.9", licenses={}) == [
+        "pyproject.toml: license-files names no file of the repository"
     ]
 
 
@@ -128,14 +208,44 @@ def test_releasing_builds_and_checks_as_ci_does() -> None:
         assert step in releasing, step
 
 
-def test_ci_runs_the_readme_set_up_commands() -> None:
+def _readme_set_up() -> list[str]:
+    """The README's set-up commands from a clone (its "Set-up" section, subsections
+    included): the shell blocks that make the ``.venv`` the suite runs in."""
     readme = (REPO / "README.md").read_text("utf-8")
-    ci = (REPO / ".ci" / "run").read_text("utf-8")
-    example, tests = (
-        block.strip() for block in _blocks(readme.split("## Set-up", 1)[1], "sh")[1:3]
-    )
-    assert "xodrlint check examples/" in example
-    install, run_tests = tests.split(" && ")[1:]
-    assert shlex.split(install)[-2:] == ["-e", ".[dev]"]
-    assert "pip install --quiet -e '.[dev]'" in ci
-    assert f"\n{run_tests}\n" in ci
+    section = readme.split("\n## Set-up\n", 1)[1].split("\n## ", 1)[0]
+    blocks = [block.strip() for block in _blocks(section, "sh")]
+    return [block for block in blocks if block.startswith("python3 -m venv .venv ")]
+
+
+def _ci_commands() -> list[str]:
+    """.ci/run's lines that run something, in order: no comments, no blank lines, a line
+    continued with a backslash joined to the next."""
+    text = (REPO / ".ci" / "run").read_text("utf-8").replace("\\\n", "")
+    return [
+        line for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")
+    ]
+
+
+def test_ci_runs_the_readme_set_up_commands_as_written_before_anything_else() -> None:
+    example, tests = _readme_set_up()
+    assert "pip install . " in example and "xodrlint check examples/" in example
+    assert "pip install -e '.[dev]' " in tests
+    assert tests.endswith(" -m pytest -q -p no:cacheprovider")
+    # the shell's set-up, then the two commands verbatim: no pip, no upgrade before them;
+    # `|| exit` ends the run where a command before an `&&` fails (set -e does not)
+    assert _ci_commands()[:4] == [
+        "set -euo pipefail",
+        'cd "$(dirname "$0")/.."',
+        f"{example} || exit",
+        f"{tests} || exit",
+    ]
+
+
+def test_ci_runs_the_whole_suite_once() -> None:
+    """The README's test command runs the suite; the other pytest runs of .ci/run name
+    their tests (those whose prerequisites come later) or run in the example pack."""
+    runs = [line for line in _ci_commands() if " -m pytest " in line or line.endswith(" -m pytest")]
+    whole = [line for line in runs if re.search(r"-m pytest -q -p no:cacheprovider( \|\||$)", line)]
+    assert whole == [f"{_readme_set_up()[1]} || exit"]
+    for line in runs:
+        assert line in whole or "tests/" in line or "cd examples/rulepack" in line, line

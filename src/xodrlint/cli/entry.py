@@ -26,6 +26,10 @@ def _leave(code: object) -> NoReturn:
     if not isinstance(code, int | None):
         print(code, file=sys.stderr)
     for stream in (sys.stdout, sys.stderr):
+        if getattr(stream, "closed", False):
+            # closed by the run itself (the language server's ``exit`` closes standard
+            # output), which flushed it then: nothing is left to write or to fail
+            continue
         try:
             stream.flush()
         except BrokenPipeError:  # its reader stopped early (| head): no error of the run

@@ -35,6 +35,8 @@ class XodrServer(LanguageServer):
         self.pending: dict[str, asyncio.Task[None]] = {}
         self.published: dict[str, list[types.Diagnostic]] = {}
         self.told: set[str] = set()
+        #: The client asked for ``shutdown``: an ``exit`` after it ends the server with 0.
+        self.shut_down = False
 
     def schedule(self, uri: str, delay: float) -> None:
         """Lint ``uri`` after ``delay`` seconds; any lint asked for earlier is superseded.
@@ -102,6 +104,10 @@ class XodrServer(LanguageServer):
 def build() -> XodrServer:
     server = XodrServer()
 
+    @server.feature(types.SHUTDOWN)
+    def shutdown(ls: XodrServer, params: None) -> None:
+        ls.shut_down = True
+
     @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
     def did_open(ls: XodrServer, params: types.DidOpenTextDocumentParams) -> None:
         ls.schedule(params.text_document.uri, 0)
@@ -148,5 +154,9 @@ def build() -> XodrServer:
 
 
 def serve() -> int:
-    build().start_io()
-    return 0
+    """Serve until the client's ``exit`` (or the end of its input); the status is the one
+    the LSP asks of ``exit``: 0 where ``shutdown`` came first, else 1. pygls ends its loop
+    with that status as a SystemExit, but catches it itself: it is decided again here."""
+    server = build()
+    server.start_io()
+    return 0 if server.shut_down else 1

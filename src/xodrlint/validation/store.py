@@ -7,6 +7,7 @@ only its XSDs. ``add`` takes an ASAM download, as a folder or a zip.
 
 from __future__ import annotations
 
+import ast
 import contextlib
 import hashlib
 import importlib.util
@@ -22,6 +23,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
 from typing import IO, Final
+from urllib.parse import urlsplit, urlunsplit
 
 from xodrlint.validation.sets import entry_xsd, user_schema_dir, version_of_set
 
@@ -114,19 +116,25 @@ def install_wheel(wheel: Path, target: Path, sha256: str) -> list[Installed]:
 
 #: What pip says when it cannot reach an index (the connection refused, no name
 #: resolution, a timeout): "No matching distribution found" follows, which misleads.
+#: Only whether it could not connect is read from pip's words, which change between
+#: releases; where it tried to connect comes from the index xodrlint gave it.
 _UNREACHABLE: Final = re.compile(
     r"connection broken by|Failed to establish a new connection|Could not fetch URL|"
     r"Name or service not known|Temporary failure in name resolution|timed out",
 )
-_HOST: Final = re.compile(r"host='([^']+)', port=(\d+)")
+_PYPI: Final = "https://pypi.org/simple"
+_DEFAULT_PORTS: Final = {"http": 80, "https": 443}
 
 
 def _download(scratch: Path) -> Path:
     if not _pip_here():  # some virtual-environment tools make environments without pip
         raise StoreError(_WITHOUT_PIP)
+    index = _index_url()
     command = [
         sys.executable, "-m", "pip", "download", "--no-deps", "--only-binary", ":all:",
         "--disable-pip-version-check", "--quiet", "--dest", str(scratch),
+        # the index is named here, so that a failure can say which one it was
+        "--index-url", index,
         # a machine without a network answers in seconds, not after pip's 98 s of retries
         "--timeout", "15", "--retries", "1", QC_REQUIREMENT,
     ]  # fmt: skip
@@ -137,11 +145,11 @@ def _download(scratch: Path) -> Path:
     except subprocess.CalledProcessError as error:
         said = f"{error.stderr or ''}\n{error.stdout or ''}"
         if _UNREACHABLE.search(said):
-            host = _HOST.search(said)
-            where = f" ({host[1]}:{host[2]})" if host else ""
+            address = index_address(index)
             raise StoreError(
-                f"pip could not reach the package index {_index_url()}{where}; without a "
-                "network, 'xodrlint schemas add' takes an ASAM download (a folder or a zip)"
+                f"pip could not reach the package index {redacted(index)}"
+                f"{f' ({address})' if address else ''}; without a network, 'xodrlint "
+                "schemas add' takes an ASAM download (a folder or a zip)"
             ) from error
         if "No module named pip" in said:
             raise StoreError(_WITHOUT_PIP) from error
@@ -153,6 +161,31 @@ def _download(scratch: Path) -> Path:
     if not wheel.is_file():
         raise StoreError(f"pip did not produce {QC_WHEEL}")
     return wheel
+
+
+def index_address(url: str) -> str | None:
+    """``host:port`` where a client of the index ``url`` connects: the port the URL gives,
+    else its scheme's; ``None`` where the URL names no host (a ``file:`` index)."""
+    try:
+        parts = urlsplit(url)
+        host, port = parts.hostname, parts.port or _DEFAULT_PORTS.get(parts.scheme.lower())
+    except ValueError:  # a port that is no number or out of range
+        return None
+    if not host or port is None:
+        return None
+    return f"[{host}]:{port}" if ":" in host else f"{host}:{port}"
+
+
+def redacted(url: str) -> str:
+    """``url`` with the secret of its user part replaced by ``****``, as pip shows it: the
+    password of ``user:password@``, or the whole of ``token@``."""
+    parts = urlsplit(url)
+    user, at, host = parts.netloc.rpartition("@")
+    if not at:
+        return url
+    name, colon, _ = user.partition(":")
+    shown = f"{name}:****" if colon else "****"
+    return urlunsplit(parts._replace(netloc=f"{shown}@{host}"))
 
 
 def _pip_here() -> bool:
@@ -171,21 +204,26 @@ _WITHOUT_PIP: Final = (
 
 
 def _index_url() -> str:
-    """The index pip asks first: ``PIP_INDEX_URL``, else pip's configuration, else PyPI."""
+    """The index pip would ask for a download: ``PIP_INDEX_URL``, else ``index-url`` of
+    pip's configuration (its ``download`` section before ``global``, as pip reads them),
+    else PyPI."""
     configured = os.environ.get("PIP_INDEX_URL")
     if configured:
         return configured
+    settings: dict[str, str] = {}
     with contextlib.suppress(OSError, subprocess.SubprocessError):
         done = subprocess.run(
-            [sys.executable, "-m", "pip", "config", "get", "global.index-url"],
+            [sys.executable, "-m", "pip", "config", "list"],
             capture_output=True,
             text=True,
             timeout=30,
             check=False,
         )
-        if done.returncode == 0 and done.stdout.strip():
-            return done.stdout.strip()
-    return "https://pypi.org/simple"
+        for line in done.stdout.splitlines() if done.returncode == 0 else ():
+            name, _, value = line.partition("=")  # name='value', the value as repr() writes it
+            with contextlib.suppress(ValueError, SyntaxError):
+                settings[name] = str(ast.literal_eval(value))
+    return settings.get("download.index-url") or settings.get("global.index-url") or _PYPI
 
 
 def _extract_xsds(archive_path: Path, into: Path) -> None:

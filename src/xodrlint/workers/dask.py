@@ -22,10 +22,12 @@ from __future__ import annotations
 import contextlib
 import logging
 import os
+import signal
 import threading
 import uuid
 from collections.abc import Generator, Iterator, Sequence
 from contextlib import contextmanager
+from types import FrameType
 from typing import Final
 
 from distributed import Client, Future, LocalCluster, WorkerPlugin, as_completed, get_worker
@@ -46,6 +48,8 @@ LOCAL: Final = "local"
 DEFAULT_RETRIES: Final = 2
 #: Seconds to reach a scheduler, and for a worker to join it, unless told otherwise.
 DEFAULT_TIMEOUT: Final = 30.0
+#: Held while a local cluster starts: Ctrl-C, and what a cancelled CI job sends.
+_HELD_SIGNALS: Final = (signal.SIGINT, signal.SIGTERM)
 
 
 class SchedulerError(Exception):
@@ -105,7 +109,17 @@ def connect(
     (default: one per core) started on this machine for :data:`LOCAL`; closed, and the
     local cluster stopped, on the way out."""
     if address == LOCAL:
-        with _local_cluster(workers or default_jobs()) as cluster, Client(cluster) as client:
+        # A LocalCluster interrupted while it starts is left half made, and nothing closes
+        # it (it closes itself on an Exception, and KeyboardInterrupt is none): its worker
+        # processes outlive the run's clean-up, and the semaphores of its nannies' queues
+        # are left to multiprocessing's resource tracker, which warns of them. So Ctrl-C
+        # waits for the start (seconds), then stops the run as it would have stopped it
+        # a moment later, the cluster closed on the way out.
+        with _held_signals() as came:
+            cluster = _local_cluster(workers or default_jobs())
+        with cluster, Client(cluster) as client:
+            if came:
+                signal.raise_signal(came[0])  # its handler, given back, raises here
             yield client
         return
     if address.startswith("tls://") and not _tls_configured():
@@ -129,6 +143,44 @@ def connect(
         except TimeoutError:
             raise SchedulerError(f"no worker joined the scheduler within {timeout:g} s") from None
         yield client
+
+
+@contextmanager
+def _held_signals() -> Iterator[list[int]]:
+    """Holds SIGINT and SIGTERM while the block runs, and yields those that came, for the
+    caller to deliver (:func:`signal.raise_signal`) once it can clean up. A second one of
+    the same is not held but handled at once: the user insists. Only the main thread sets
+    handlers, and only a handler Python set can be given back: elsewhere nothing is held,
+    and neither is an ignored signal."""
+    came: list[int] = []
+    if threading.current_thread() is not threading.main_thread():
+        yield came
+        return
+    given = {number: signal.getsignal(number) for number in _HELD_SIGNALS}
+    held = {
+        number: handler
+        for number, handler in given.items()
+        if handler is not None and handler != signal.SIG_IGN
+    }
+
+    def hold(number: int, frame: FrameType | None) -> None:
+        if number not in came:
+            came.append(number)
+            return
+        handler = held[signal.Signals(number)]
+        signal.signal(number, handler)
+        if callable(handler):
+            handler(number, frame)
+        else:  # the default action: the process ends
+            signal.raise_signal(number)
+
+    for number in held:
+        signal.signal(number, hold)
+    try:
+        yield came
+    finally:
+        for number, handler in held.items():
+            signal.signal(number, handler)
 
 
 def _tls_configured() -> bool:
