@@ -624,7 +624,10 @@ def test_rules_lists_all_43_rules_and_which_are_off_by_default() -> None:
     codes = [line.split()[0] for line in table.splitlines()[1:]]
     assert len(codes) == 43
     assert sorted({code[:2] for code in codes}) == ["PT", "RL", "ST", "SW", "TR", "XL", "XS"]
-    assert footnote == "Off by default (turn on with --extend-select): XL001\n"
+    assert footnote == (
+        "Off by default (turn on with --extend-select): XL001\n\n"
+        "From OpenDRIVE 1.7 on (older files with --all-versions): RL001, RL002\n"
+    )
 
 
 @pytest.mark.parametrize(
