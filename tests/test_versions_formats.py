@@ -111,6 +111,13 @@ def test_a_report_without_a_place_for_notes_leaves_them_to_stderr(output_format:
     assert NOTE not in result.stdout
 
 
+@pytest.mark.parametrize("output_format", ["text", "json"])
+def test_statistics_leave_the_notes_to_stderr(output_format: str) -> None:
+    result = check("-f", output_format, "--statistics")
+    assert notes_on_stderr(result) == [FULL_VALIDATION_NOTE, NOTE]
+    assert not NOTED.search(result.stdout)
+
+
 def test_jsonl_says_it_on_stderr_after_the_last_line_with_workers() -> None:
     result = check("-f", "jsonl", "--jobs", "2")
     assert notes_on_stderr(result) == [FULL_VALIDATION_NOTE, NOTE]

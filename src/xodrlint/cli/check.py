@@ -308,9 +308,10 @@ def _report(
     written += [(report.flag, report.path, report_renderer(f, result)) for report, f in extra]
     if not write_reports(written):
         return 2
-    if not carries_notes(formatter) and not request.statistics:
-        # a report of findings only (concise, GitLab's, JUnit, XQAR): what was not
-        # checked goes to stderr, after them (where both reach one log, as in pre-commit's)
+    if request.statistics or not carries_notes(formatter):
+        # counts, or a report of findings only (concise, GitLab's, JUnit, XQAR): what was
+        # not checked goes to stderr, after them (where both reach one log, as in
+        # pre-commit's)
         say_notes(result.notes)
     _left_out(formatter, extra)
     return exit_code(reports, settings.fail_on, request.exit_zero)

@@ -19,6 +19,7 @@ from lxml import etree
 from xodrlint.document import Document
 from xodrlint.findings import Hit
 from xodrlint.positions import TreePositions, parser_line
+from xodrlint.validation.identities import FirstHolders, key_fields, selector_of
 from xodrlint.validation.libxml2_direct import SchemaError, direct_schema
 from xodrlint.validation.messages import Explained, TypeCatalog, explain_libxml2
 from xodrlint.validation.sets import SchemaLoadError, SchemaSet
@@ -44,7 +45,7 @@ def fix_known_schema_bugs(schema_root: etree._Element) -> None:
     """
     keys = {
         (
-            _selector(key),
+            selector_of(key),
             tuple(f.get("xpath", "").strip() for f in key.iterfind(f"{{{XS}}}field")),
         ): key.get("name")
         for key in schema_root.iter(f"{{{XS}}}key")
@@ -54,7 +55,7 @@ def fix_known_schema_bugs(schema_root: etree._Element) -> None:
     if road_key is None or switch_key is None:
         return
     for keyref in schema_root.iter(f"{{{XS}}}keyref"):
-        track = _selector(keyref)
+        track = selector_of(keyref)
         if keyref.get("refer") == switch_key and track in (
             "road/railroad/switch/mainTrack",
             "road/railroad/switch/sideTrack",
@@ -108,11 +109,6 @@ def without_target_namespace(schema: etree._ElementTree) -> etree._ElementTree:
 
 #: The root's own target namespace and default namespace declaration (the same URI).
 _TARGET_NAMESPACE: Final = re.compile(rb"""\s(?:targetNamespace|xmlns)\s*=\s*(["'])[^"']*\1""")
-
-
-def _selector(identity: etree._Element) -> str:
-    selector = identity.find(f"{{{XS}}}selector")
-    return "" if selector is None else (selector.get("xpath") or "").strip()
 
 
 class Libxml2Validator:
@@ -287,12 +283,12 @@ def errors_to_hits(
         why = explain_libxml2(error.message, catalog, version)
         element = error.element
         if element is None:
-            element = locator.find(error.path, why, error.line, _key_fields(catalog, why))
+            element = locator.find(error.path, why, error.line, key_fields(catalog, why))
         explained.append((why, element, error.line))
     # A missing keyed attribute is one defect: libxml2 reports it twice (required, and
     # "not all fields of key ... evaluate to a node"); keep the first.
     missing = {id(el) for why, el, _ in explained if why.kind == "required" and el is not None}
-    firsts = _FirstHolders(catalog)
+    firsts = FirstHolders(catalog)
     for why, element, line in explained:
         if why.kind == "key_field" and element is not None and id(element) in missing:
             continue
@@ -304,67 +300,6 @@ def errors_to_hits(
             kind=why.kind,
             related=(first,) if first is not None else (),
         )
-
-
-class _FirstHolders:
-    """The element that first holds a duplicated key value, for a duplicate's finding to
-    name (as the rules name the first of two switches with one id). Each constraint's
-    elements are read once per scope, and only for a run with duplicates."""
-
-    def __init__(self, catalog: TypeCatalog) -> None:
-        self._catalog = catalog
-        self._firsts: dict[tuple[str, etree._Element], dict[tuple[str, ...], etree._Element]]
-        self._firsts = {}
-
-    def of(self, element: etree._Element | None, why: Explained) -> etree._Element | None:
-        identity = self._catalog.identities.get(why.constraint or "")
-        fields = _key_fields(self._catalog, why)
-        if element is None or identity is None or fields is None or not why.constraint:
-            return None
-        declared = identity.getparent()
-        if declared is None:
-            return None
-        scope_tag = declared.get("name")
-        scope = next((a for a in element.iterancestors() if _local(a) == scope_tag), None)
-        if scope is None:
-            return None
-        key = (why.constraint, scope)
-        firsts = self._firsts.get(key)
-        if firsts is None:
-            firsts = self._firsts[key] = self._holders(scope, _selector(identity), fields)
-        first = firsts.get(tuple(element.get(name) or "" for name in fields))
-        return first if first is not None and first is not element else None
-
-    @staticmethod
-    def _holders(
-        scope: etree._Element, selector: str, fields: tuple[str, ...]
-    ) -> dict[tuple[str, ...], etree._Element]:
-        try:
-            selected = scope.xpath(selector)
-        except etree.XPathError:
-            return {}
-        holders: dict[tuple[str, ...], etree._Element] = {}
-        for item in selected if isinstance(selected, list) else []:
-            if isinstance(item, etree._Element):
-                values = tuple(item.get(name) for name in fields)
-                if all(value is not None for value in values):
-                    holders.setdefault(tuple(v or "" for v in values), item)
-        return holders
-
-
-def _local(element: etree._Element) -> str:
-    return etree.QName(element).localname
-
-
-def _key_fields(catalog: TypeCatalog, why: Explained) -> tuple[str, ...] | None:
-    """The attributes a key or keyref compares, when each field is a plain ``@attr``."""
-    identity = catalog.identities.get(why.constraint or "")
-    if identity is None:
-        return None
-    paths = [field.get("xpath", "") for field in identity.iterfind(f"{{{XS}}}field")]
-    if not paths or not all(p.startswith("@") and p[1:].isidentifier() for p in paths):
-        return None
-    return tuple(p[1:] for p in paths)
 
 
 class _ElementLocator:
