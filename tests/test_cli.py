@@ -629,7 +629,10 @@ def test_rules_lists_every_rule_and_which_are_off_by_default() -> None:
     assert sorted(codes) == sorted(module.stem.upper() for module in modules)
     opt_in = [meta.code for meta in metas if meta.opt_in]
     assert "XL001" in opt_in
-    assert footnote == f"Off by default (turn on with --extend-select): {', '.join(opt_in)}\n"
+    assert footnote == (
+        f"Off by default (turn on with --extend-select): {', '.join(opt_in)}\n\n"
+        "From OpenDRIVE 1.7 on (older files with --all-versions): RL001, RL002\n"
+    )
 
 
 @pytest.mark.parametrize(

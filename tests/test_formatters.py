@@ -17,7 +17,7 @@ from urllib.parse import unquote, urlsplit
 
 import jsonschema  # type: ignore[import-untyped, unused-ignore]
 import pytest
-from junitparser import Error, Failure, JUnitXml, TestCase, TestSuite
+from junitparser import Error, Failure, JUnitXml, Skipped, TestCase, TestSuite
 from typer.testing import CliRunner
 
 from xodrlint import __version__
@@ -547,23 +547,28 @@ def test_junit_counts_and_cases(tmp_path: Path) -> None:
         "rules/SW007/invalid_three_switches_one_id.xodr",
     ]
     findings = len(result.findings)
-    assert (xml.tests, xml.failures, xml.errors) == (findings + 2, findings, 1)
+    # a rule that did not judge a file (RL001, RL002 on the 1.4 one) is a skipped case
+    skipped = sum(len(report.rules_not_applied) for report in result.reports)
+    assert skipped > 0
+    assert (xml.tests, xml.failures, xml.errors) == (findings + 2 + skipped, findings, 1)
     for suite, report in zip(suites, result.reports, strict=True):
         assert isinstance(suite, TestSuite)
         cases = list(suite)
         assert suite.tests == len(cases)
         assert suite.failures == len(report.findings)
         assert suite.errors == (1 if report.error else 0)
-        if not report.findings and not report.error:
+        assert suite.skipped == len(report.rules_not_applied)
+        if not report.findings and not report.error and not report.rules_not_applied:
             (case,) = cases
             assert (case.name, case.classname, case.is_passed) == ("xodrlint", suite.name, True)
     # The counts agree with the cases junitparser reads.
     cases = [case for suite in suites for case in suite]
     results = [type(item) for case in cases for item in case.result]
-    assert (len(cases), results.count(Failure), results.count(Error)) == (
+    assert (len(cases), results.count(Failure), results.count(Error), results.count(Skipped)) == (
         xml.tests,
         xml.failures,
         xml.errors,
+        skipped,
     )
 
     broken = suites[0]
@@ -722,9 +727,11 @@ def test_cli_sarif(monkeypatch: pytest.MonkeyPatch) -> None:
 def test_cli_github_prints_annotations_only(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.chdir(REPO)
     out = cli("check", "-f", "github", "examples/broken.xodr", "examples/clean.xodr", code=1)
-    lines = out.splitlines()
+    *lines, note = out.splitlines()
     assert len(lines) == 6
     assert all(line.startswith(("::error ", "::warning ")) for line in lines)
+    # the run's note (only railroad elements were validated): a notice on no file
+    assert note == f"::notice title=xodrlint::{FULL_VALIDATION_NOTE}"
 
 
 def test_cli_junit(monkeypatch: pytest.MonkeyPatch) -> None:

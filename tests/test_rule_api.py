@@ -2,7 +2,7 @@
 every field, property and method of the types it exports, stays while ``API_VERSION``'s
 major number does.
 
-The surface below is the record of rule API 1.0. Removing or renaming anything in it
+The surface below is the record of rule API 1.1 (1.1 added ``rule(..., since=)``). Removing or renaming anything in it
 breaks packs: raise the major number (and say so in the changelog). Adding something is
 compatible: record it here and raise the minor number, so that a pack using it can
 declare the version it needs.
@@ -70,7 +70,9 @@ RECORDED: dict[str, list[str] | None] = {
     "non_finite": ["element", "attribute"],
     "number": ["element", "attribute"],
     "numbers": ["element", "attributes"],
-    "rule": ["code", "name", "uid", "severity", "aliases", "options", "defers_to", "opt_in"],
+    "rule": [
+        "code", "name", "uid", "severity", "aliases", "options", "defers_to", "opt_in", "since",
+    ],
 }  # fmt: skip
 
 

@@ -172,7 +172,7 @@ def test_rule_toml_sets_selection_and_options(pack: RulePack) -> None:
     [
         ("select = []\n", "'select' must be a non-empty list of rule selectors"),
         ("[options]\nx = true\n", "[options] must give numbers or strings by option name"),
-        ("selekt = ['AC']\n", "unknown key 'selekt' (known: select, options)"),
+        ("selekt = ['AC']\n", "unknown key 'selekt' (known: select, options, all-versions)"),
     ],
 )
 def test_a_rule_toml_that_cannot_be_read(tmp_path: Path, text: str, message: str) -> None:

@@ -47,9 +47,14 @@ def _linter(
     ignore: tuple[str, ...],
     schema: Path | None,
     rule_options: tuple[tuple[str, float | str], ...],
+    all_versions: bool = False,
 ) -> Linter:
     options = LintOptions(
-        select=select, ignore=ignore, schema=schema, rule_options=dict(rule_options)
+        select=select,
+        ignore=ignore,
+        schema=schema,
+        rule_options=dict(rule_options),
+        all_versions=all_versions,
     )
     return Linter(_api_registry(), options)
 
@@ -69,9 +74,11 @@ def _linter_for(
     ignore: Sequence[str],
     schema: str | os.PathLike[str] | None,
     rule_options: Mapping[str, float | str] | None,
+    all_versions: bool,
 ) -> Linter:
     options = tuple(sorted((rule_options or {}).items()))
-    return _linter(tuple(select), tuple(ignore), Path(schema) if schema else None, options)
+    where = Path(schema) if schema else None
+    return _linter(tuple(select), tuple(ignore), where, options, all_versions)
 
 
 def lint_file(
@@ -81,13 +88,17 @@ def lint_file(
     ignore: Sequence[str] = (),
     schema: str | os.PathLike[str] | None = None,
     rule_options: Mapping[str, float | str] | None = None,
+    all_versions: bool = False,
 ) -> FileReport:
     """Lint one file; a file that cannot be read gives a report with ``error`` set.
 
     ``path`` may be a URL that fsspec reads (``s3://bucket/maps/a.xodr``; the ``cloud``
     extra). ``rule_options`` sets rule options by name (``{"rail-min-width": 1.0}``).
+    ``all_versions`` applies every rule whatever version the file declares (RL001 and
+    RL002 apply from OpenDRIVE 1.7 on; the report's ``rules_not_applied`` names those
+    that did not judge the file).
     """
-    linter = _linter_for(select, ignore, schema, rule_options)
+    linter = _linter_for(select, ignore, schema, rule_options, all_versions)
     if isinstance(path, str) and is_url(path):
         return linter.lint_url(path)
     return linter.lint_path(Path(path))
@@ -101,9 +112,11 @@ def lint_bytes(
     ignore: Sequence[str] = (),
     schema: str | os.PathLike[str] | None = None,
     rule_options: Mapping[str, float | str] | None = None,
+    all_versions: bool = False,
 ) -> FileReport:
-    """Lint the contents of a file; ``path`` is only the name findings carry."""
-    linter = _linter_for(select, ignore, schema, rule_options)
+    """Lint the contents of a file; ``path`` is only the name findings carry (the
+    keywords as :func:`lint_file`'s)."""
+    linter = _linter_for(select, ignore, schema, rule_options, all_versions)
     return linter.lint_bytes(data, path)
 
 

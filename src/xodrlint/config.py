@@ -126,6 +126,9 @@ class Settings:
     option_defaults: Mapping[str, float | str] = field(default_factory=dict)
     """Every rule option the rules declare, a plugin's too, with its default."""
     warn_unused_suppressions: bool = False
+    all_versions: bool = False
+    """Apply every rule to every OpenDRIVE version, also those that apply only from a
+    later version than a file declares (RL001, RL002 from 1.7)."""
     max_file_size: int = DEFAULT_MAX_FILE_SIZE
     rule_timeout: float = DEFAULT_RULE_TIMEOUT
     """Seconds a rule may run on one file; 0: no limit."""
@@ -163,6 +166,7 @@ class Settings:
                 self.warn_unused_suppressions,
                 self.source_of("warn-unused-suppressions"),
             ),
+            ("all-versions", self.all_versions, self.source_of("all-versions")),
             ("max-file-size", format_size(self.max_file_size), self.source_of("max-file-size")),
             ("rule-timeout", self.rule_timeout, self.source_of("rule-timeout")),
         ]
@@ -282,6 +286,7 @@ _READERS: Final[Mapping[str, _Reader]] = {
     "exclude": _strings,
     "respect-gitignore": _boolean,
     "warn-unused-suppressions": _boolean,
+    "all-versions": _boolean,
     "max-file-size": parse_size,
     "rule-timeout": seconds,
 }
@@ -330,6 +335,7 @@ def settings_from(
         rule_options={name: values[name] for name in options if name in values},  # type: ignore[misc]
         option_defaults={name: option.default for name, option in options.items()},
         warn_unused_suppressions=bool(values.get("warn-unused-suppressions", False)),
+        all_versions=bool(values.get("all-versions", False)),
         max_file_size=int(_get(values, "max-file-size", DEFAULT_MAX_FILE_SIZE)),
         rule_timeout=float(_get(values, "rule-timeout", DEFAULT_RULE_TIMEOUT)),
         base=base,

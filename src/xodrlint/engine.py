@@ -1,9 +1,10 @@
 """Stage 5, engine: decide which rules run, run them, and stamp their hits into findings.
 
 The engine is the one place that knows the rules, the document and the options together:
-it selects rules by code prefix, runs the schema stage when XS006 is selected, builds the
-model once, stamps code, UID, severity, path, line, column and XPath on every hit, applies the
-one-defect-one-finding policy and sorts.
+it selects rules by code prefix, leaves out on each file the rules that apply only from a
+later OpenDRIVE version than the file declares (unless ``all_versions``), runs the schema
+stage when XS006 is selected, builds the model once, stamps code, UID, severity, path,
+line, column and XPath on every hit, applies the one-defect-one-finding policy and sorts.
 """
 
 from __future__ import annotations
@@ -80,6 +81,11 @@ class LintOptions(NamedTuple):
     an alias of ``--extend-select XL001``."""
     rule_timeout: float | None = DEFAULT_RULE_TIMEOUT
     """Seconds a rule may run on one file before it is stopped (``None``: no limit)."""
+    all_versions: bool = False
+    """Apply every rule to every file, also a rule that applies only from a later
+    OpenDRIVE version than the file declares (``--all-versions``, ``all-versions =
+    true``). Without it such a rule does not judge the file, and the file's report
+    names it (:attr:`FileReport.rules_not_applied`)."""
 
     @classmethod
     def of(
@@ -97,6 +103,7 @@ class LintOptions(NamedTuple):
             keep_suppressed=keep_suppressed,
             warn_unused_suppressions=settings.warn_unused_suppressions,
             rule_timeout=settings.rule_timeout or None,
+            all_versions=settings.all_versions,
         )
 
 
@@ -201,6 +208,11 @@ class Linter:
             r for r in self.rules if r.meta.pack == DOCUMENT_PACK and r.code != UNUSED_SUPPRESSION
         ]
         self._model_rules = [r for r in self.rules if r.meta.pack != DOCUMENT_PACK]
+        self._since = {
+            r.code: r.meta.since
+            for r in self.rules
+            if r.meta.since is not None and not self.options.all_versions
+        }
         finder = SchemaFinder(option=self.options.schema, option_origin=self.options.schema_origin)
         self._validators = SchemaValidators(finder)
 
@@ -293,11 +305,12 @@ class Linter:
         stamped: list[_Stamped] = []
         crashes: list[str] = []
         validation_started = time.perf_counter()
+        not_applied = self._not_applied(doc)
         network = build_network(None if fatal else doc.root)
         clock.lap("model")
         if self._keep_last_document:
             self._last_document = LastDocument(doc, None if fatal else network)
-        self._run(self._model_rules, network, doc, stamped, crashes)
+        self._run(_applied(self._model_rules, not_applied), network, doc, stamped, crashes)
         clock.lap("rules")
         check = pending.result() if pending is not None else None
         if check is not None:  # its own time, or (a forked child's) until its result
@@ -309,9 +322,10 @@ class Linter:
             schema_label, builtin = check.schema.describe(), check.schema.is_builtin
             if doc.effective is not None and doc.declared is not None:
                 schema_note = check.schema.version_note(doc.declared, doc.effective)
-        self._run(self._document_rules, RailNetwork(problems=problems), doc, stamped, crashes)
+        document_rules = _applied(self._document_rules, not_applied)
+        self._run(document_rules, RailNetwork(problems=problems), doc, stamped, crashes)
         kept, withheld = self._apply_suppressions(
-            doc, _one_defect_one_finding(stamped), external, crashes
+            doc, _one_defect_one_finding(stamped), external, crashes, not_applied
         )
         findings = sorted(kept, key=lambda f: f.sort_key)
         source: dict[int, str] = {}
@@ -331,7 +345,18 @@ class Linter:
             suppressed=tuple(withheld) if self.options.keep_suppressed else (),
             schema_note=schema_note,
             timings=clock.stop(),
+            rules_not_applied=tuple(sorted(not_applied)),
         )
+
+    def _not_applied(self, doc: Document) -> frozenset[str]:
+        """The selected rules that do not judge ``doc``: those that apply only from a
+        later version than it declares. A file whose version cannot be read (XS003,
+        XS004) is judged by every rule: nothing says a convention does not hold in it."""
+        declared = doc.declared
+        if declared is None or not self._since:
+            return frozenset()
+        version = (declared.major, declared.minor)
+        return frozenset(code for code, since in self._since.items() if version < since)
 
     def _run(
         self,
@@ -372,6 +397,7 @@ class Linter:
         stamped: list[_Stamped],
         external: ExternalIgnores,
         crashes: list[str],
+        not_applied: frozenset[str],
     ) -> tuple[list[Finding], list[Suppressed]]:
         # a map without the word has no suppression comment: skip walking its comments
         directives = read_directives(doc.root) if may_hold_directives(doc.data) else []
@@ -379,13 +405,19 @@ class Linter:
         kept: list[Finding] = []
         withheld: list[Suppressed] = []
         self._withhold(stamped, suppressions, external, kept, withheld)
-        if self._unused_rules and directives:
+        unused_rules = _applied(self._unused_rules, not_applied)
+        if unused_rules and directives:
             # only now is it known which entries withheld something; XL001's own findings
             # then pass the same suppressions (``ignore[PT001, XL001]`` keeps a stale entry)
-            hits = list(unused_hits(doc, suppressions, self._judgeable))
+            ran = self._codes - not_applied
+
+            def judgeable(selector: str) -> bool:
+                return self._judgeable(selector, ran)
+
+            hits = list(unused_hits(doc, suppressions, judgeable))
             unused: list[_Stamped] = []
             network = RailNetwork(problems={UNUSED_SUPPRESSION: hits})
-            self._run(self._unused_rules, network, doc, unused, crashes)
+            self._run(unused_rules, network, doc, unused, crashes)
             self._withhold(unused, suppressions, external, kept, withheld)
         return kept, withheld
 
@@ -411,14 +443,15 @@ class Linter:
             else:
                 kept.append(item.finding)
 
-    def _judgeable(self, selector: str) -> bool:
+    def _judgeable(self, selector: str, ran: frozenset[str] | set[str]) -> bool:
         """Whether this run can tell that a suppression entry is stale: it names no
-        rule at all (a typo), or one of the rules it names ran. An entry naming XL001
-        is never judged: it withholds the very findings that would judge it."""
+        rule at all (a typo), or one of the rules it names ran on the file (``ran``: a
+        rule not applied to the file's version did not). An entry naming XL001 is never
+        judged: it withholds the very findings that would judge it."""
         named = [code for code in self.registry.by_code if self._selector_matches(selector, code)]
         if UNUSED_SUPPRESSION in named:
             return False
-        return not named or any(code in self._codes for code in named)
+        return not named or any(code in ran for code in named)
 
     def _selector_matches(self, selector: str, code: str) -> bool:
         candidate = self.registry.by_code.get(code)
@@ -482,6 +515,11 @@ class _StageClock:
     def stop(self) -> dict[str, float]:
         self._laps["total"] = time.perf_counter() - self._started
         return self._laps
+
+
+def _applied(rules: list[Rule], not_applied: frozenset[str]) -> list[Rule]:
+    """``rules`` without those that do not judge this file."""
+    return [r for r in rules if r.code not in not_applied] if not_applied else rules
 
 
 def _one_defect_one_finding(stamped: list[_Stamped]) -> list[_Stamped]:

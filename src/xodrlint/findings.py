@@ -292,10 +292,19 @@ class RuleMeta(NamedTuple):
     family (``X`` for ``XL001``) do not name it; its family, code, name or a UID do."""
     origin: PackInfo | None = None
     """The pack that registered the rule (``None`` for a rule no entry point loaded)."""
+    since: tuple[int, int] | None = None
+    """The first OpenDRIVE version, ``(major, minor)``, the rule applies to: a file that
+    declares an older one is not judged by it unless the run applies every rule to every
+    version (``--all-versions``); ``None``: every version."""
 
     @property
     def uids(self) -> tuple[str, ...]:
         return (self.uid, *self.aliases)
+
+    @property
+    def since_label(self) -> str | None:
+        """``since`` as a version is written (``1.7``), ``None`` when the rule has none."""
+        return None if self.since is None else f"{self.since[0]}.{self.since[1]}"
 
 
 class FileReport(NamedTuple):
@@ -327,6 +336,10 @@ class FileReport(NamedTuple):
     """Seconds each stage took (``read``, ``parse``, ``model``, ``rules``,
     ``validation``: beside the model and the rules, ``waiting for validation``: after
     the rules, and ``total``), for ``--verbose``; reports never print them."""
+    rules_not_applied: tuple[str, ...] = ()
+    """Codes of the selected rules that did not judge the file because it declares an
+    OpenDRIVE version older than the one they apply from (:attr:`RuleMeta.since`),
+    sorted; empty when every selected rule ran (or with ``--all-versions``)."""
 
 
 class RunResult(NamedTuple):

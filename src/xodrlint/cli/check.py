@@ -49,7 +49,14 @@ from xodrlint.config import (
 )
 from xodrlint.engine import Linter, LintOptions, SelectorError, select_rules
 from xodrlint.findings import NO_ENTRIES, FileReport, RunResult
-from xodrlint.formatters import Formatter, available, get_formatter, streaming, warnings_of
+from xodrlint.formatters import (
+    Formatter,
+    available,
+    carries_notes,
+    get_formatter,
+    streaming,
+    warnings_of,
+)
 from xodrlint.messages import one_line
 from xodrlint.output import STDOUT, error_line
 from xodrlint.registry import Registry
@@ -95,6 +102,8 @@ class CheckRequest(NamedTuple):
     baseline: Path | None = None
     write_baseline: Path | None = None
     warn_unused_suppressions: bool | None = None
+    all_versions: bool | None = None
+    """``--all-versions``: every rule judges every file, whatever version it declares."""
     show_suppressed: bool = False
     sarif_max_results: int | None = None
     statistics: bool = False
@@ -150,6 +159,7 @@ def _overrides(request: CheckRequest) -> dict[str, object]:
         "exclude": request.exclude,
         "respect-gitignore": request.respect_gitignore,
         "warn-unused-suppressions": request.warn_unused_suppressions,
+        "all-versions": request.all_versions,
         "max-file-size": _max_file_size(request.max_file_size),
         "rule-timeout": request.rule_timeout,
     }
@@ -285,7 +295,7 @@ def _report(
         tuple(reports),
         registry.metas,
         __version__,
-        notes=run_notes(reports),
+        notes=run_notes(reports, registry.metas),
         root=root,
         selected=tuple(rule.code for rule in linter.rules),
     )
@@ -298,9 +308,10 @@ def _report(
     written += [(report.flag, report.path, report_renderer(f, result)) for report, f in extra]
     if not write_reports(written):
         return 2
-    if settings.output_format == "concise" and not request.statistics:
-        # the concise report is findings only: what was not checked goes to stderr,
-        # after them (where both reach one log, as in pre-commit's)
+    if request.statistics or not carries_notes(formatter):
+        # counts, or a report of findings only (concise, GitLab's, JUnit, XQAR): what was
+        # not checked goes to stderr, after them (where both reach one log, as in
+        # pre-commit's)
         say_notes(result.notes)
     _left_out(formatter, extra)
     return exit_code(reports, settings.fail_on, request.exit_zero)

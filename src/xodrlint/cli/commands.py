@@ -39,6 +39,12 @@ _COLOR_HELP = (
     "it), always or never."
 )
 
+_ALL_VERSIONS_HELP = (
+    "Apply every rule to every OpenDRIVE version, also the conventions a later version "
+    "introduced (RL001, RL002 apply from 1.7 on; by default files declaring 1.4 to 1.6 "
+    "are not judged by them, and a note says so)."
+)
+
 
 class _Command(TyperCommand):
     """A command whose usage line names its arguments as their help does (``PATH...``,
@@ -331,6 +337,14 @@ def check(
             rich_help_panel=_SELECTION,
         ),
     ] = None,
+    all_versions: Annotated[
+        bool | None,
+        typer.Option(
+            "--all-versions",
+            help=_ALL_VERSIONS_HELP,
+            rich_help_panel=_SELECTION,
+        ),
+    ] = None,
     show_suppressed: Annotated[
         bool,
         typer.Option(
@@ -425,6 +439,7 @@ def check(
             baseline=baseline,
             write_baseline=write_baseline,
             warn_unused_suppressions=warn_unused_suppressions,
+            all_versions=all_versions,
             show_suppressed=show_suppressed,
             sarif_max_results=sarif_max_results,
             statistics=statistics,
@@ -519,6 +534,9 @@ def map_command(
     schema: Annotated[Path | None, typer.Option(metavar="PATH", help="As for check.")] = None,
     config: Annotated[Path | None, typer.Option(metavar="FILE", help="As for check.")] = None,
     isolated: Annotated[bool, typer.Option("--isolated", help="As for check.")] = False,
+    all_versions: Annotated[
+        bool | None, typer.Option("--all-versions", help="As for check.")
+    ] = None,
     rail_min_width: Annotated[
         float | None, typer.Option(metavar="METRES", help="As for check.")
     ] = None,
@@ -542,6 +560,7 @@ def map_command(
         schema=schema,
         config=config,
         isolated=isolated,
+        all_versions=all_versions,
         rule_options=_rule_options(rule_option, rail_min_width, refline_tolerance),
     )
     raise typer.Exit(run_map(MapRequest(lint, output)))

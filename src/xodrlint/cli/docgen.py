@@ -77,17 +77,24 @@ FORMAT_NOTES: Final = {
     "`invocations[0].toolExecutionNotifications`, its `properties` giving `results`, "
     "`kept` and `leftOut`). A result's `relatedLocations` are places in the file, not other "
     "results, so none points at a result left out.",
-    "github": "GitHub Actions workflow commands: annotations on the pull request.",
+    "github": "GitHub Actions workflow commands: annotations on the pull request. Each of "
+    "the run's notes (what was not checked) is a `::notice` of the run, on no file.",
     "gitlab": "GitLab Code Quality: the merge request widget and diff annotations. A file "
     "that could not be read is an issue too (`xodrlint:unreadable`, severity `blocker`, "
-    "line 1), so the merge request shows that it went unchecked.",
+    "line 1), so the merge request shows that it went unchecked. The run's notes go to "
+    "standard error, as in `concise`.",
     "junit": "JUnit XML: one test suite per file, for GitLab's and Jenkins' test reports. "
     "A finding's test case is named by code, line, column (where known) and XPath; "
     "findings that still share a name get `#2`, `#3` in their order, so every name in a "
-    "suite is unique (GitLab keeps one test case per name) and the same in every run.",
+    "suite is unique (GitLab keeps one test case per name) and the same in every run. A "
+    "rule that did not judge a file of an older OpenDRIVE version than it applies from "
+    "(RL001, RL002 on 1.4 to 1.6) is a `skipped` test case `CODE not applied` saying why. "
+    "The run's notes go to standard error, as in `concise`.",
     "xqar": "The ASAM Quality Checker framework's result file (see "
     "[qc-framework.md](qc-framework.md)). Shown here: the bundle and the checkers with "
-    "issues; the real file has a checker for every rule, each addressing its rule UIDs.",
+    "issues; the real file has a checker for every rule, each addressing its rule UIDs; a "
+    "rule that did not judge a file of an older OpenDRIVE version than it applies from is "
+    "a `skipped` checker saying why. The run's notes go to standard error, as in `concise`.",
 }
 
 
@@ -107,7 +114,7 @@ def formats_page(root: Path) -> str:
     registry = Registry(own)
     linter = Linter(registry, LintOptions())
     report = linter.lint_path(root / FORMATS_EXAMPLE, FORMATS_EXAMPLE)
-    notes = run_notes([report])
+    notes = run_notes([report], registry.metas)
     selected = tuple(rule.code for rule in linter.rules)  # as check says what did not run
     result = RunResult(
         (report,), registry.metas, __version__, notes=notes, root=str(root), selected=selected

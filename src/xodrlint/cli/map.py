@@ -152,7 +152,11 @@ def _print_report(registry: Registry, report: FileReport) -> None:
     for crash in report.internal_errors:
         error_line(f"internal error: {crash}")
     result = RunResult(
-        (report,), registry.metas, __version__, notes=run_notes([report]), root=str(Path.cwd())
+        (report,),
+        registry.metas,
+        __version__,
+        notes=run_notes([report], registry.metas),
+        root=str(Path.cwd()),
     )
     get_formatter("text").render(result, sys.stdout)
     sys.stdout.flush()

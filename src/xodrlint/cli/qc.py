@@ -40,6 +40,8 @@ DEFAULT_RESULT: Final = f"{BUNDLE_NAME}.xqar"
 #: working folder where it reads every other ``*.xqar`` (docs/qc-framework.md says so;
 #: a bundle may still write it, as ASAM's own may).
 POOLED_RESULT: Final = "Result.xqar"
+#: The bundle parameter that applies every rule to every OpenDRIVE version.
+ALL_VERSIONS_PARAM: Final = "allVersions"
 #: A checker without levels keeps every issue: errors (1) to information (3).
 ALL_LEVELS: Final = (1, 3)
 
@@ -57,6 +59,9 @@ class QcRun(NamedTuple):
     """(maxLevel, minLevel) by rule code of each configured checker; ``None``: all rules."""
     result_named_by: str = "result file"
     """What named the result file, for messages: ``--output``, the configuration."""
+    all_versions: bool | None = None
+    """The bundle's ``allVersions`` parameter (``--all-versions``); ``None``: not given,
+    the xodrlint configuration beside the map decides."""
 
 
 def read_config(path: Path, registry: Registry) -> QcRun:
@@ -77,7 +82,19 @@ def read_config(path: Path, registry: Registry) -> QcRun:
         raise QcError(f"{path}: no Param named 'InputFile'")
     result_file = dict(own).get("resultFile") or DEFAULT_RESULT
     levels = _levels(bundles[0], registry, path) if bundles else None
-    return QcRun(input_file, result_file, tuple(params + own), levels, f"{path}: resultFile")
+    all_versions = _flag(dict(own).get(ALL_VERSIONS_PARAM), path)
+    return QcRun(
+        input_file, result_file, tuple(params + own), levels, f"{path}: resultFile", all_versions
+    )
+
+
+def _flag(value: str | None, path: Path) -> bool | None:
+    if value is None:
+        return None
+    text = value.strip().lower()
+    if text not in ("true", "false", "1", "0"):
+        raise QcError(f"{path}: {ALL_VERSIONS_PARAM}='{value}' is not 'true' or 'false'")
+    return text in ("true", "1")
 
 
 def _params(holder: etree._Element) -> list[tuple[str, str]]:
@@ -130,6 +147,7 @@ def run_qc(
         jobs=1,
         exit_zero=True,
         select=tuple(run.levels) if run.levels else None,
+        all_versions=run.all_versions,
     )
     formatter = _Noted(XqarFormatter(params=run.params, levels=run.levels))
     code = run_check(request, formatter)

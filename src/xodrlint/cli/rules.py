@@ -28,6 +28,15 @@ def print_rules(output_format: str) -> int:
     opt_in = [m.code for m in registry.metas if m.opt_in]
     if opt_in:
         print(f"\nOff by default (turn on with --extend-select): {', '.join(opt_in)}")
+    by_version: dict[tuple[int, int], list[str]] = {}
+    for meta in registry.metas:
+        if meta.since is not None:
+            by_version.setdefault(meta.since, []).append(meta.code)
+    for (major, minor), codes in sorted(by_version.items()):
+        print(
+            f"\nFrom OpenDRIVE {major}.{minor} on (older files with --all-versions): "
+            + ", ".join(codes)
+        )
     return 0
 
 
@@ -44,6 +53,7 @@ def _entry(meta: RuleMeta) -> dict[str, object]:
         "options": [option.as_dict() for option in meta.options],
         "defers_to": list(meta.defers_to),
         "enabled_by_default": not meta.opt_in,
+        "since": meta.since_label,
     }
 
 
@@ -96,6 +106,11 @@ def explain_rule(token: str, color: str | None = None) -> int:
         f"Severity: {meta.severity} · UID: `{meta.uid}`"
         + "".join(f" · alias `{alias}`" for alias in meta.aliases)
         + (f" · off by default (`--extend-select {meta.code}`)" if meta.opt_in else "")
+        + (
+            f" · from OpenDRIVE {meta.since_label} on (older files: `--all-versions`)"
+            if meta.since_label
+            else ""
+        )
         + (f" · {pack_label(origin)}" if origin and not origin.builtin else "")
         + "\n\n"
     )

@@ -22,10 +22,10 @@ from typing import TYPE_CHECKING, NamedTuple, TextIO, cast, overload
 
 from xodrlint.api import STDIN, Input, exit_code, os_reason
 from xodrlint.cli.inputs import read_stdin
-from xodrlint.cli.notes import run_notes, say_notes
+from xodrlint.cli.notes import NotApplied, run_notes, say_notes
 from xodrlint.config import Settings, any_match, glob_matches
 from xodrlint.engine import Linter
-from xodrlint.findings import FileReport
+from xodrlint.findings import FileReport, RuleMeta
 from xodrlint.formatters import StreamingFormatter
 from xodrlint.messages import one_line
 from xodrlint.output import STDOUT, error_line, release, write_output
@@ -184,7 +184,7 @@ class Streamed(NamedTuple):
 def run_stream(source: Source, formatter: StreamingFormatter, run: Streamed) -> int:
     """Lint ``source`` and write each file's part of the report as it completes; the
     exit code is the one the whole run's reports would give."""
-    tally = _Tally(source.settings, run)
+    tally = _Tally(source.settings, run, source.linter.registry.metas)
     state = _Writing()
     started = time.perf_counter()
 
@@ -247,11 +247,14 @@ class _Writing:
 
 class _Tally:
     """What a streaming run keeps of its reports: the exit code so far, the files linted,
-    and one stand-in per version the built-in schema alone validated (for the notes)."""
+    one stand-in per version the built-in schema alone validated and the count of files
+    some rules did not judge (for the notes)."""
 
-    def __init__(self, settings: Settings, run: Streamed) -> None:
+    def __init__(self, settings: Settings, run: Streamed, rules: Sequence[RuleMeta]) -> None:
         self._settings = settings
         self._run = run
+        self._rules = rules
+        self._not_applied = NotApplied()
         self._remaining = None if run.recorded is None else run.recorded.copy()
         self._root = str(Path.cwd())
         self._builtin: dict[str | None, FileReport] = {}
@@ -272,6 +275,7 @@ class _Tally:
         # before 1 before 0, and --exit-zero turns only findings to 0
         own = exit_code((report,), self._settings.fail_on, self._run.exit_zero)
         self.code = max(self.code, own)
+        self._not_applied.add(report)
         version = report.declared_version
         if report.schema_builtin and version not in self._builtin:
             self._builtin[version] = FileReport(
@@ -288,4 +292,4 @@ class _Tally:
         return report
 
     def notes(self) -> tuple[str, ...]:
-        return run_notes(list(self._builtin.values()))
+        return (*run_notes(self._builtin.values()), *self._not_applied.notes(self._rules))

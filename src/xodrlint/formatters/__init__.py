@@ -3,7 +3,8 @@
 Each formatter is a class with a ``render(result, stream)`` method, looked up by name
 here or under the ``xodrlint.formatters`` entry points (the way a plugin adds one). One
 that leaves something out of its report says so in a ``warnings`` attribute
-(:func:`warnings_of`).
+(:func:`warnings_of`); one whose report holds the run's notes says so with
+``carries_notes = True`` (:func:`carries_notes`), else the command prints them on stderr.
 Formatters see findings and rule metadata only, never rules or the engine.
 """
 
@@ -102,6 +103,13 @@ def get_formatter(
         factory = getattr(importlib.import_module(module_name), attribute)
     formatter: Formatter = factory(show_source=show_source, quiet=quiet, **extra)
     return formatter
+
+
+def carries_notes(formatter: Formatter) -> bool:
+    """Whether ``formatter``'s report holds the run's notes (:attr:`RunResult.notes`,
+    what the run did not check), as a ``carries_notes = True`` attribute says; the
+    command says them on stderr after a report that has no place for them."""
+    return getattr(formatter, "carries_notes", False) is True
 
 
 def warnings_of(formatter: Formatter) -> tuple[str, ...]:

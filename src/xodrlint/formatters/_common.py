@@ -31,6 +31,17 @@ def run_fingerprints(result: RunResult, extra: Iterable[Finding] = ()) -> list[s
     return fingerprints([*result.findings, *extra], result.root)
 
 
+def not_applied_reason(meta: RuleMeta | None, declared: str | None) -> str:
+    """Why a rule did not judge a file (the formats that say so per file: JUnit, XQAR):
+    ``not applied to OpenDRIVE 1.4: it applies from 1.7 on (--all-versions applies it)``."""
+    since = meta.since_label if meta is not None else None
+    when = f"from {since} on" if since else "to later versions only"
+    return (
+        f"not applied to OpenDRIVE {declared or 'of this version'}: it applies {when} "
+        "(--all-versions applies it)"
+    )
+
+
 def single_line(text: str) -> str:
     """``text`` on one line: line breaks become spaces."""
     return _BREAKS.sub(" ", text)

@@ -3,7 +3,9 @@
 ``::error file=PATH,line=N,title=CODE name::message`` (``::warning`` for warnings,
 ``::notice`` for infos; ``col=`` when the finding has a column). A file that could not be
 read gets an ``::error`` line with its path and the reason. Paths are relative to the
-run's root (the checkout), which is what GitHub resolves them against.
+run's root (the checkout), which is what GitHub resolves them against. Each of the run's
+notes (what it did not check) is a ``::notice title=xodrlint::`` line of its own, after
+the findings: an annotation of the run, on no file.
 
 The message is escaped as workflow command data (``%``, CR, LF); property values (file,
 title) also escape ``:`` and ``,``, which would otherwise end the value.
@@ -28,7 +30,12 @@ def escape_property(text: str) -> str:
     return escape_data(text).replace(":", "%3A").replace(",", "%2C")
 
 
+NOTE_TITLE: Final = "xodrlint"
+
+
 class GithubFormatter:
+    carries_notes = True
+
     def __init__(self, *, show_source: bool = False, quiet: bool = False) -> None:
         del show_source, quiet  # annotations only
 
@@ -40,6 +47,8 @@ class GithubFormatter:
                 stream.write(f"::error file={path}::{escape_data(report.error)}\n")
             for finding in report.findings:
                 stream.write(annotation(finding, report_path(finding.path, result), names))
+        for note in result.notes:
+            stream.write(f"::notice title={escape_property(NOTE_TITLE)}::{escape_data(note)}\n")
 
 
 def annotation(finding: Finding, path: str, names: dict[str, str]) -> str:

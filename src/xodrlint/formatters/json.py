@@ -12,6 +12,8 @@ FORMAT_VERSION: Final = 1
 
 
 class JsonFormatter:
+    carries_notes = True
+
     def __init__(self, *, show_source: bool = False, quiet: bool = False) -> None:
         del show_source, quiet  # the JSON document is always complete
 
@@ -75,6 +77,7 @@ def _file(report: FileReport) -> dict[str, object]:
         "findings": len(report.findings),
         "error": report.error,
         "internal_errors": list(report.internal_errors),
+        "rules_not_applied": list(report.rules_not_applied),
     }
 
 

@@ -4,7 +4,10 @@ One ``testsuite`` per input file (named by its path relative to the run's root),
 failing ``testcase`` per finding (with a ``failure`` whose type is the code and whose
 text is ``path:line:column: CODE [severity] message`` and the XPath), and one passing
 ``testcase`` named ``xodrlint`` for a file without findings. A file that could not be
-read, or on which a rule crashed, has a ``testcase`` with an ``error`` instead.
+read, or on which a rule crashed, has a ``testcase`` with an ``error`` instead. A rule
+that did not judge a file, because the file declares an older OpenDRIVE version than the
+rule applies from, is a ``skipped`` test case ``CODE not applied`` of its suite, saying
+why (the run's note, on stderr, says it once for the run).
 
 A finding's test case is named ``CODE line N col C XPATH`` (``col C`` only where the
 column is known): GitLab keys test cases by name and keeps one of each, so names must
@@ -23,9 +26,9 @@ from typing import Final, TextIO
 
 from lxml import etree
 
-from xodrlint.findings import FileReport, Finding, RunResult
+from xodrlint.findings import FileReport, Finding, RuleMeta, RunResult
 
-from ._common import report_path
+from ._common import not_applied_reason, report_path, rules_by_code
 
 DECLARATION: Final = '<?xml version="1.0" encoding="UTF-8"?>\n'
 CLEAN_CASE: Final = "xodrlint"
@@ -50,8 +53,10 @@ class JunitFormatter:
 def as_junit(result: RunResult) -> etree._Element:
     root = etree.Element("testsuites", name="xodrlint")
     totals = [0, 0, 0]
+    rules = rules_by_code(result)
     for report in result.reports:
         suite = _suite(report, report_path(report.path, result))
+        _skipped(suite, report, rules, report_path(report.path, result))
         root.append(suite)
         for i, key in enumerate(("tests", "failures", "errors")):
             totals[i] += int(suite.get(key, "0"))
@@ -83,6 +88,20 @@ def _suite(report: FileReport, path: str) -> etree._Element:
     suite.set("time", "0")
     suite.extend(cases)
     return suite
+
+
+def _skipped(
+    suite: etree._Element, report: FileReport, rules: dict[str, RuleMeta], path: str
+) -> None:
+    """A skipped test case per rule that did not judge the file."""
+    for code in report.rules_not_applied:
+        case = _case(f"{code} not applied", path)
+        why = xml_text(not_applied_reason(rules.get(code), report.declared_version))
+        etree.SubElement(case, "skipped", message=why)
+        suite.append(case)
+    if report.rules_not_applied:
+        suite.set("tests", str(int(suite.get("tests", "0")) + len(report.rules_not_applied)))
+        suite.set("skipped", str(len(report.rules_not_applied)))
 
 
 def _case(name: str, path: str) -> etree._Element:

@@ -18,7 +18,11 @@
   built-in schema only checked railroad elements) are ``toolConfigurationNotifications``,
   and so is each file that a schema given for every version validated although the file
   declares another version.
-- Which schema validated each file is in the run's ``properties.schemas``.
+- Which schema validated each file is in the run's ``properties.schemas``; which rules
+  did not judge a file, because it declares an older OpenDRIVE version than they apply
+  from, in ``properties.rulesNotApplied`` (only where some did not), and the run's note
+  says it in words among the ``toolConfigurationNotifications`` (a rule the
+  configuration left out, as SARIF's own example of such a notification is).
 - GitHub rejects a run of more than 25,000 results. A log that would hold more than
   ``max_results`` (GitHub's 25,000 unless ``--sarif-max-results`` or the config's
   ``sarif-max-results`` says otherwise; 0 for no limit) keeps the most important:
@@ -81,6 +85,8 @@ JsonObject = dict[str, Any]
 
 
 class SarifFormatter:
+    carries_notes = True
+
     def __init__(
         self,
         *,
@@ -149,6 +155,9 @@ def as_sarif(result: RunResult, *, max_results: int = 0) -> JsonObject:
         "columnKind": "unicodeCodePoints",
         "properties": {"schemas": _schemas(result)},
     }
+    not_applied = _rules_not_applied(result)
+    if not_applied:
+        run["properties"]["rulesNotApplied"] = not_applied
     return {"$schema": SCHEMA_URI, "version": SARIF_VERSION, "runs": [run]}
 
 
@@ -323,6 +332,20 @@ def _schemas(result: RunResult) -> list[JsonObject]:
         }
         for report in result.reports
         if report.schema is not None
+    ]
+
+
+def _rules_not_applied(result: RunResult) -> list[JsonObject]:
+    """The rules that did not judge each file, for the version it declares (the run's
+    note says it in words)."""
+    return [
+        {
+            "artifactLocation": artifact_location(report.path, result.root),
+            "declaredVersion": report.declared_version,
+            "rules": list(report.rules_not_applied),
+        }
+        for report in result.reports
+        if report.rules_not_applied
     ]
 
 

@@ -53,6 +53,8 @@ def styled_console(stream: TextIO, color: str | None) -> Console:
 
 
 class TextFormatter:
+    carries_notes = True
+
     def __init__(
         self, *, show_source: bool = False, quiet: bool = False, color: str | None = None
     ) -> None:

@@ -7,7 +7,9 @@ name mismatch) without losing its family's errors. Each checker addresses its ru
 and aliases; each finding is an ``Issue`` (level 1 error, 2 warning, 3 info) whose
 ``Locations`` hold the line (``FileLocation``) and the XPath (``XMLLocation``), and a
 second ``Locations`` per related element. A rule that did not run is ``skipped`` and its
-summary says why; a rule that crashed is ``error``.
+summary says why (not selected; the input unreadable or no OpenDRIVE tree; a convention of
+a later OpenDRIVE version than the file declares, which ``--all-versions`` applies); a
+rule that crashed is ``error``.
 
 ASAM's rule UID schema wants a domain name as the emanating entity, and qc-baselib refuses
 a result file whose UIDs lack one. The catalogue's own UIDs (``xodrlint:xodr:...``) are
@@ -27,6 +29,7 @@ from lxml import etree
 
 from xodrlint.findings import FileReport, Finding, RuleMeta, RunResult, Severity
 
+from ._common import not_applied_reason
 from .junit import DECLARATION, xml_text
 
 BUNDLE_NAME: Final = "xodrlintBundle"
@@ -137,6 +140,9 @@ def _status(meta: RuleMeta, report: FileReport, result: RunResult) -> tuple[str,
         return "skipped", "Not selected by the configuration. "
     if report.error:
         return "skipped", f"The input could not be read: {report.error}. "
+    if meta.code in report.rules_not_applied:
+        why = not_applied_reason(meta, report.declared_version)
+        return "skipped", f"{why[:1].upper()}{why[1:]}. "
     for crash in report.internal_errors:
         found = _CRASH.match(crash)
         if found is not None and found["code"] == meta.code:

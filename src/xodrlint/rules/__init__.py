@@ -136,6 +136,7 @@ def rule(
     options: Iterable[RuleOption] = (),
     defers_to: Iterable[str] = (),
     opt_in: bool = False,
+    since: tuple[int, int] | None = None,
 ) -> Callable[[PlainCheck | ConfiguredCheck], Rule]:
     """Declare a rule; the docstring of the module defining it is its doc page.
 
@@ -143,11 +144,16 @@ def rule(
     also see on the same element (one defect, one finding); the engine withdraws this
     rule's finding there when one of them reports it. An ``opt_in`` rule is off by
     default: it runs only when a selection names it (see :attr:`RuleMeta.opt_in`).
+    ``since`` is the first OpenDRIVE version, ``(major, minor)``, the rule applies to
+    (a convention a later version introduced): files declaring an older one are not
+    judged by it unless the run asks for every version (see :attr:`RuleMeta.since`).
+    Rule API 1.1.
     """
     if not CODE_PATTERN.match(code):
         raise ValueError(f"rule code {code!r} is not two to four capitals and three digits")
     if not NAME_PATTERN.match(name):
         raise ValueError(f"rule name {name!r} is not kebab-case")
+    first_version = _checked_since(code, since)
     declared = tuple(options)
     for option in declared:
         _check_declaration(code, option)
@@ -170,10 +176,27 @@ def rule(
             declared,
             tuple(defers_to),
             opt_in,
+            since=first_version,
         )
         return Rule(meta, _configured(check, takes_settings=bool(declared)))
 
     return wrap
+
+
+def _checked_since(code: str, since: object) -> tuple[int, int] | None:
+    """``since`` as the engine compares it; a pack's mistake is its import's error."""
+    if since is None:
+        return None
+    if (
+        not isinstance(since, tuple | list)
+        or len(since) != 2
+        or not all(isinstance(part, int) and not isinstance(part, bool) for part in since)
+        or min(since) < 0
+    ):
+        raise ValueError(
+            f"{code}: since={since!r} is not an OpenDRIVE version (major, minor), e.g. (1, 7)"
+        )
+    return (since[0], since[1])
 
 
 def _check_declaration(code: str, option: RuleOption) -> None:

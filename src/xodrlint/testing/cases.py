@@ -6,7 +6,8 @@ separated by commas), or the comment stands alone on the line before. A case run
 only its folder's rule selected and its options at their defaults, unless a
 ``rule.toml`` in the folder says otherwise: ``select = ["SW", "PT"]`` for folders that pin
 down how several rules share a defect, ``[options]`` for cases of other option values
-(``platform-min-length = 60``).
+(``platform-min-length = 60``), ``all-versions = true`` for cases of files older than a
+rule applies from that the rule judges anyway (``--all-versions``).
 """
 
 from __future__ import annotations
@@ -15,12 +16,13 @@ import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Final
+from typing import Any, Final, NamedTuple
 
 EXPECT: Final = re.compile(r"<!--\s*expect:\s*(?P<codes>[A-Z0-9,\s]+?)\s*-->")
-#: A folder's rules other than its name's (``select = [...]``) and its option values
-#: (``[options]``).
+#: A folder's rules other than its name's (``select = [...]``), its option values
+#: (``[options]``) and whether every rule judges every version (``all-versions``).
 SELECTION_FILE: Final = "rule.toml"
+_KEYS: Final = ("select", "options", "all-versions")
 CASE_SUFFIX: Final = ".xodr"
 
 
@@ -37,6 +39,8 @@ class RuleCase:
     """The rules the case runs with."""
     options: Mapping[str, float | str] = field(default_factory=dict)
     """Rule options by name; the others keep their defaults."""
+    all_versions: bool = False
+    """Every rule judges the case, whatever version it declares (``--all-versions``)."""
 
     @property
     def is_valid(self) -> bool:
@@ -58,30 +62,56 @@ def read_case(path: Path) -> RuleCase:
             line = number + 1 if alone else number
             codes = [c.strip() for c in match["codes"].split(",") if c.strip()]
             expected.extend((line, code) for code in codes)
-    select, options = folder_settings(path.parent)
-    return RuleCase(path, path.parent.name, tuple(sorted(expected)), select, options)
+    settings = case_settings(path.parent)
+    return RuleCase(
+        path,
+        path.parent.name,
+        tuple(sorted(expected)),
+        settings.select,
+        settings.options,
+        settings.all_versions,
+    )
+
+
+class CaseSettings(NamedTuple):
+    """What a folder's cases run with."""
+
+    select: tuple[str, ...]
+    options: dict[str, float | str]
+    all_versions: bool = False
 
 
 def folder_settings(folder: Path) -> tuple[tuple[str, ...], dict[str, float | str]]:
     """The selectors a folder's cases run with (its ``rule.toml``'s, or its name) and the
     option values they set."""
+    settings = case_settings(folder)
+    return settings.select, settings.options
+
+
+def case_settings(folder: Path) -> CaseSettings:
+    """Everything a folder's ``rule.toml`` sets (selectors, option values, whether every
+    rule judges every version), or the defaults without one."""
     settings = folder / SELECTION_FILE
     if not settings.is_file():
-        return (folder.name,), {}
+        return CaseSettings((folder.name,), {})
     import tomllib
 
     table: dict[str, Any] = tomllib.loads(settings.read_text(encoding="utf-8"))
     select = table.pop("select", [folder.name])
     options = table.pop("options", {})
+    all_versions = table.pop("all-versions", False)
     if not isinstance(select, list) or not select or not all(isinstance(s, str) for s in select):
         raise ValueError(f"{settings}: 'select' must be a non-empty list of rule selectors")
     if not isinstance(options, dict) or not all(
         isinstance(v, int | float | str) and not isinstance(v, bool) for v in options.values()
     ):
         raise ValueError(f"{settings}: [options] must give numbers or strings by option name")
+    if not isinstance(all_versions, bool):
+        raise ValueError(f"{settings}: 'all-versions' must be true or false")
     if table:
-        raise ValueError(f"{settings}: unknown key '{next(iter(table))}' (known: select, options)")
-    return tuple(select), dict(options)
+        known = ", ".join(_KEYS)
+        raise ValueError(f"{settings}: unknown key '{next(iter(table))}' (known: {known})")
+    return CaseSettings(tuple(select), dict(options), all_versions)
 
 
 def folder_selection(folder: Path) -> tuple[str, ...]:

@@ -89,7 +89,9 @@ class RulePack:
         """The case linted with its selection, as ``xodrlint check --select`` would."""
         from xodrlint.engine import Linter, LintOptions
 
-        options = LintOptions(select=case.select, rule_options=case.options)
+        options = LintOptions(
+            select=case.select, rule_options=case.options, all_versions=case.all_versions
+        )
         return Linter(self.registry, options).lint_path(case.path)
 
     def case_problems(self, case: RuleCase) -> list[str]:

@@ -26,6 +26,14 @@ def render_page(meta: RuleMeta, cases: Iterable[RuleCase], root: Path) -> str:
             if meta.opt_in
             else []
         ),
+        *(
+            [
+                f"- Applies to files declaring OpenDRIVE {meta.since_label} or later; "
+                "older ones only with `--all-versions`"
+            ]
+            if meta.since_label
+            else []
+        ),
         "",
         head[1].strip() if len(head) > 1 else "",
         "",

@@ -297,7 +297,14 @@ def missing_reference_message(
 
 
 def duplicate_key_message(tag: str, fields: str, values: str, key_selector: str) -> str:
-    """A key value used twice: the same words for libxml2 and xmlschema."""
+    """A key value used twice: the same words for libxml2 and xmlschema. A key of one
+    attribute reads as the rules word a duplicate: ``road id '3' is not unique: an earlier
+    'road' has it`` (the finding adds that road's line)."""
+    attribute = fields.strip()
+    if re.fullmatch(r"@[A-Za-z_][\w.-]*", attribute):
+        last_step = key_selector.strip().split("|")[0].strip().rsplit("/", 1)[-1]
+        holder = last_step if re.fullmatch(r"[A-Za-z_][\w.-]*", last_step) else key_selector
+        return f"{tag} {attribute[1:]} {values} is not unique: an earlier '{holder}' has it"
     return f"'{tag}/{fields}' is {values}, which an earlier '{key_selector}' already has"
 
 

@@ -145,8 +145,11 @@ def _collect(pid: int, read_end: int, task: Callable[[], _T]) -> _T:
 
 # -- hits across the fork ------------------------------------------------------------------
 
-#: A hit as plain values: where its element is (child indices from the root), and the rest.
-SentHit = tuple[tuple[int, ...] | None, str, int | None, int | None, str]
+#: A hit as plain values: where its element is (child indices from the root), the rest,
+#: and where its related elements are.
+SentHit = tuple[
+    tuple[int, ...] | None, str, int | None, int | None, str, tuple[tuple[int, ...] | None, ...]
+]
 
 
 def start_hits(
@@ -171,6 +174,7 @@ def send_hits(hits: list[Hit], root: etree._Element) -> list[SentHit]:
             hit.line,
             hit.column,
             hit.kind,
+            tuple(_position(other, root, positions) for other in hit.related),
         )
         for hit in hits
     ]
@@ -180,15 +184,20 @@ def receive_hits(sent: list[SentHit], root: etree._Element) -> list[Hit]:
     """The hits :func:`send_hits` sent, with their elements found again in ``root``'s
     tree (the same tree: the child is a fork)."""
     positions = TreePositions()
+
+    def found(position: tuple[int, ...] | None) -> etree._Element | None:
+        return positions.path_from(root, list(position)) if position is not None else None
+
     return [
         Hit(
-            positions.path_from(root, list(position)) if position is not None else None,
+            found(position),
             message,
             line=line,
             column=column,
             kind=kind,
+            related=tuple(e for e in map(found, others) if e is not None),
         )
-        for position, message, line, column, kind in sent
+        for position, message, line, column, kind, others in sent
     ]
 
 

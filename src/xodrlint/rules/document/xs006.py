@@ -8,7 +8,10 @@ reports each error as one finding at the line of the element it is about: the el
 bad value and what the schema allows.
 
 Without an official schema (see `xodrlint schemas`), xodrlint's built-in railroad schema
-checks the `railroad` and `station` subtrees only, and the report says so once.
+checks the `railroad` and `station` subtrees only, and the report says so once; from
+OpenDRIVE 1.5 on it also keys the ids of roads and of junctions, as the official schemas
+do (1.4's keys none), so a repeated road id is found with either. A repeated key is
+reported on the later element, naming the line of the first.
 
 ## Why is this bad?
 The schema is the normative form of the standard's tables: a value it refuses is one

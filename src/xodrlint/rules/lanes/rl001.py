@@ -4,10 +4,18 @@
 Reports a `laneSection` that holds two or more lanes of type `rail` or `tram`, once per
 lane section.
 
+It applies to files that declare OpenDRIVE 1.7 or later, the version that introduced the
+convention: a file declaring 1.4 to 1.6 is not judged by it (the run's note names the
+files), unless the run applies every rule to every version (`--all-versions`, or
+`all-versions = true` in the configuration). A file whose version cannot be read (XS004)
+is judged.
+
 ## Why is this bad?
 ASAM OpenDRIVE 1.7 models each railroad track as its own road with exactly one rail lane:
 switches, stations and partner links name roads, not lanes. A second rail lane in the
-same lane section is a track that no switch can reach and no platform can name.
+same lane section is a track that no switch can reach and no platform can name. Earlier
+versions say nothing of it: their exporters (SUMO writes 1.4) put several tracks on one
+road, which is no defect of theirs.
 
 ## Example
 ```xml
@@ -35,7 +43,9 @@ Use instead:
 
 ## Related rules
 RL002 judges the centring of a rail lane only in lane sections with exactly one of them.
-RL004 reports roads that mix rail and road traffic.
+RL004 reports roads that mix rail and road traffic. Where RL001 is not applied (a file
+declaring 1.4 to 1.6), TR001, TR002 and TR007 judge such roads by their joined lanes as
+usual.
 
 ## References
 - ASAM OpenDRIVE 1.7, chapter "Railroads"; rule UID
@@ -58,6 +68,7 @@ from xodrlint.rules.lanes._templates import judged_once_per_layout
     name="more-than-one-rail-lane",
     uid="asam.net:xodr:1.7.0:road.railroad.one_rail_per_road",
     severity=Severity.ERROR,
+    since=(1, 7),
 )
 def more_than_one_rail_lane(network: RailNetwork) -> Iterator[Hit]:
     for road, crowded in judged_once_per_layout(network, _crowded_sections):

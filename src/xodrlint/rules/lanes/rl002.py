@@ -16,11 +16,18 @@ centre lane and the rail lane are the cubic polynomials they are, each piece on 
 stretch, including the point where a new `width` or `laneOffset` entry starts; the
 largest distance is found where the polynomial's derivative vanishes, not by sampling.
 
+It applies to files that declare OpenDRIVE 1.7 or later, the version that introduced the
+convention: a file declaring 1.4 to 1.6 is not judged by it (the run's note names the
+files), unless the run applies every rule to every version (`--all-versions`, or
+`all-versions = true` in the configuration). A file whose version cannot be read (XS004)
+is judged.
+
 ## Why is this bad?
 ASAM OpenDRIVE 1.7 says the reference line of a railroad track lies in the centre of its
 rail lane: the reference line is the track axis that switches, stations and vehicle
 positions refer to. A rail lane off the reference line puts trains beside their own
-track.
+track. Earlier versions say nothing of it: their exporters (SUMO writes 1.4) put the
+reference line at a lane's edge, which is no defect of theirs.
 
 ## Example
 ```xml
@@ -53,6 +60,8 @@ Use instead:
 ## Related rules
 RL001 reports a lane section with several rail lanes; RL002 only judges lane sections
 with exactly one. RL004 reports roads shared with road traffic, which RL002 leaves out.
+Where RL002 is not applied (a file declaring 1.4 to 1.6), TR001, TR002 and TR007 judge
+such roads by their joined lanes as usual.
 Lanes described by `border` instead of `width`, and unreadable coefficients, leave the
 lane section unjudged.
 
@@ -107,6 +116,7 @@ def _is_track_road(road: Road) -> bool:
     uid="asam.net:xodr:1.7.0:road.railroad.rail_refline_centered",
     severity=Severity.WARNING,
     options=(TOLERANCE,),
+    since=(1, 7),
 )
 def refline_not_centered(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
     tolerance = TOLERANCE.number(settings)

@@ -111,18 +111,21 @@ class Xsd11Validator:
                 continue
             if not duplicate and refers != key:
                 continue
-            seen = False
+            first: etree._Element | None = None
             for element, field_values in _selected(root, constraint):
                 if field_values != values:
                     continue
-                if duplicate and not seen:
-                    seen = True
+                if duplicate and first is None:
+                    first = element  # named beside each later one, as libxml2's path does
                     continue
                 where = f"'{etree.QName(element).localname}'"
                 shown = quoted_list(list(values))
                 kind = "duplicate" if duplicate else "keyref"
                 yield Hit(
-                    element, _identity_message(where, shown, constraint, duplicate), kind=kind
+                    element,
+                    _identity_message(where, shown, constraint, duplicate),
+                    kind=kind,
+                    related=(first,) if first is not None else (),
                 )
 
     def _constraints(self) -> Iterator[tuple[str, Any]]:

@@ -37,7 +37,9 @@ def as_xsd11(hit: Hit) -> Hit:
         kind = "missing_child"
     else:
         kind = "other"
-    return Hit(element, hit.message, line=hit.line, column=hit.column, kind=kind)
+    return Hit(
+        element, hit.message, line=hit.line, column=hit.column, kind=kind, related=hit.related
+    )
 
 
 class Subtrees:
