@@ -146,13 +146,14 @@ def test_the_one_lane_each_default_and_a_lane_link_pointing_elsewhere() -> None:
         _road("2", line2, 10, links=to1, right=_lane(-1, "tram", 1.5)),
     )
     assert [(p.first.lane.id, p.second.lane.id) for p in _joints(plain)[0].lanes] == [(-1, -1)]
-    # road 1's rail lane names road 2's sidewalk: the default does not apply
+    # road 1's rail lane names road 2's sidewalk: the default still joins the two rail
+    # lanes (the catalogue: "joined even without a lane link"); the link is TR007's alone
     elsewhere = _document(
         _road("1", line1, 10, links=to2, right=_lane(-1, "rail", 1.5, '<successor id="-2"/>')),
         _road("2", line2, 10, links=to1, right=_lane(-1, "tram", 1.5) + _lane(-2, "sidewalk", 2)),
     )
-    assert _joints(elsewhere)[0].lanes == ()
-    assert _codes(elsewhere) == Counter({"TR007": 2})  # one lane turns, the other ends
+    assert [(p.first.lane.id, p.second.lane.id) for p in _joints(elsewhere)[0].lanes] == [(-1, -1)]
+    assert _codes(elsewhere) == Counter({"TR007": 1})  # the rail lane turns into a sidewalk
 
 
 def test_links_are_judged_before_what_they_join() -> None:
@@ -282,3 +283,45 @@ def test_braunschweig_keeps_only_the_true_gaps() -> None:
     assert (
         "rail lane -1 of road '2730' and rail lane -1 of road '2463' are 1.2712 m" in first.message
     )
+
+
+def test_two_independent_one_sided_links_are_two_findings() -> None:
+    # road 1 runs into road 2 at both of road 2's ends (a loop); road 2 links nothing back:
+    # two joints, each one-sided, so two TR004 (a pair of links naming each other at the
+    # wrong end is one defect; these are not such a pair)
+    line1 = '<geometry s="0" x="0" y="0" hdg="0" length="10"><line/></geometry>'
+    line2 = '<geometry s="0" x="10" y="0" hdg="0" length="10"><line/></geometry>'
+    rail = _lane(-1, "rail", 1.5)
+    data = _document(
+        _road(
+            "1",
+            line1,
+            10,
+            links='<predecessor elementType="road" elementId="2" contactPoint="end"/>'
+            '<successor elementType="road" elementId="2" contactPoint="start"/>',
+            right=rail,
+        ),
+        _road("2", line2, 10, right=rail),
+    )
+    assert _codes(data) == Counter({"TR004": 2})
+
+
+def test_links_to_or_from_a_repeated_road_id_are_not_judged() -> None:
+    # two roads share id 2; which one road 1's successor means is unknown: XS006 says so
+    line = '<geometry s="0" x="{}" y="0" hdg="0" length="10"><line/></geometry>'
+    rail = _lane(-1, "rail", 1.5)
+    back = '<predecessor elementType="road" elementId="1" contactPoint="end"/>'
+    data = _document(
+        _road(
+            "1",
+            line.format(0),
+            10,
+            links='<successor elementType="road" elementId="2" contactPoint="start"/>',
+            right=rail,
+        ),
+        _road("2", line.format(10), 10, links=back, right=rail),
+        _road("2", line.format(500), 10, links=back, right=rail),
+    )
+    assert _codes(data) == Counter()
+    found = Counter(f.code for f in lint_bytes(data, "t.xodr").findings)
+    assert found["XS006"] == 1 and not any(code.startswith("TR") for code in found)

@@ -7,7 +7,7 @@
   road ends (on the link of the road first in the document when both name each other).
   Its **joined lanes** are the pairs of rail/tram lanes of the two end lane sections that
   a lane link pairs (either side's), or the two single rail/tram lanes when each section
-  holds exactly one and no lane link of theirs points elsewhere (TR001, TR002, TR007).
+  holds exactly one, whatever their lane links say (TR001, TR002, TR007).
 - Where each rail lane's lane links point (:mod:`._lane_links`: TR006, TR007).
 
 Lanes are read from each road's lane template (:attr:`~xodrlint.model.Road.lane_template`:
@@ -143,16 +143,26 @@ def lane_ids(section: LaneSection) -> str:
 
 def judged_links(network: RailNetwork) -> Iterator[TrackLink]:
     found: list[TrackLink] = []
+    repeated = _repeated_road_ids(network)
     for road in network.rail_roads:
         for link in road.links:
-            judged = _judge(network, road, link)
+            judged = _judge(network, road, link, repeated)
             if judged is not None:
                 found.append(judged)
-    # a pair of roads whose links both go unanswered is one defect: reported once
-    reported_pairs: set[frozenset[int]] = set()
+    # two links that name each other's road and both go unanswered (one names the other
+    # road at the wrong end) are one defect: reported once, on the earlier road's link;
+    # any other unanswered link is a defect of its own
+    # the unanswered links by the roads they join, for finding pairs in time linear in
+    # the links (a map where every link is one-sided has thousands)
+    unanswered: dict[tuple[int, int], list[TrackLink]] = {}
     for judged in found:
         if judged.fault == NOT_ANSWERED and judged.target is not None:
-            pair = frozenset({id(judged.road.element), id(judged.target.element)})
+            key = (id(judged.road.element), id(judged.target.element))
+            unanswered.setdefault(key, []).append(judged)
+    reported_pairs: set[frozenset[tuple[int, str]]] = set()
+    for judged in found:
+        pair = _pair_of(judged, unanswered) if judged.fault == NOT_ANSWERED else None
+        if pair is not None:
             if pair in reported_pairs:
                 yield judged._replace(reported=False)
                 continue
@@ -160,10 +170,41 @@ def judged_links(network: RailNetwork) -> Iterator[TrackLink]:
         yield judged
 
 
-def _judge(network: RailNetwork, road: Road, link: RoadLink) -> TrackLink | None:
+def _pair_of(
+    judged: TrackLink, unanswered: dict[tuple[int, int], list[TrackLink]]
+) -> frozenset[tuple[int, str]] | None:
+    """The two road ends of an unanswered link and of the unanswered link of the other
+    road it pairs with: A names B at B's end b, and B's link at b names A (at the wrong
+    end). ``None`` for a link that pairs with none (a defect of its own)."""
+    target, contact = judged.target, judged.link.contact_point
+    if target is None or contact is None:
+        return None
+    own = (id(judged.road.element), judged.end)
+    for other in unanswered.get((id(target.element), id(judged.road.element)), ()):
+        if other.end == contact:  # this link names the end the other link is at
+            return frozenset({own, (id(target.element), contact)})
+        if other.link.contact_point == judged.end:  # the other link names this one's end
+            return frozenset({own, (id(target.element), other.end)})
+    return None
+
+
+def _repeated_road_ids(network: RailNetwork) -> set[str]:
+    seen: set[str] = set()
+    repeated: set[str] = set()
+    for road in network.roads:
+        if road.id is not None:
+            (repeated if road.id in seen else seen).add(road.id)
+    return repeated
+
+
+def _judge(
+    network: RailNetwork, road: Road, link: RoadLink, repeated: set[str]
+) -> TrackLink | None:
     end = END_OF[link.kind]
     if link.element_id is None:
         return None  # the schema reports the missing attribute
+    if link.element_type == "road" and (road.id in repeated or link.element_id in repeated):
+        return None  # which of the roads of one id is meant is unknown (XS006 reports it)
     if link.element_type == "junction":
         if link.element_id in network.junction_by_id:
             return TrackLink(road, link, end, None, None, False, "")
@@ -294,10 +335,9 @@ def _joined_lanes(
         key=lambda edge: (-(edge[0] or 0), -(edge[1] or 0)),
     )
     if len(firsts) == 1 and len(seconds) == 1:
-        only = (firsts[0].lane.id, seconds[0].lane.id)
-        # the one-lane-each default, unless a lane link of theirs points elsewhere
-        if all(edge == only for edge in edges if edge[0] == only[0] or edge[1] == only[1]):
-            pairs = [only]
+        # the one-lane-each default: joined whatever their lane links say (a link of one
+        # into a road lane of the other is TR007's)
+        pairs = [(firsts[0].lane.id, seconds[0].lane.id)]
     return tuple(
         JoinedLanes(
             by_first[a],

@@ -34,7 +34,8 @@ Use instead:
 
 ## Related rules
 TR006 reports a lane link naming a lane that is not there; TR007 stays silent on that
-lane end. TR003, TR004 and TR005 report a road link that is wrong; the lanes it would
+lane end, and on the rail lanes at both ends of that joint: which lane the broken link
+meant is unknown, so no lane there is said to end. TR003, TR004 and TR005 report a road link that is wrong; the lanes it would
 join are not judged. TR001 and TR002 judge the lanes a joint does join.
 
 ## References
