@@ -119,6 +119,7 @@ def _release_dask_threads() -> None:
     """Dask keeps a thread for the rest of the process's life once it has used it (its
     offload executor): the tests after a Dask module get a process without threads again,
     as a command-line run is, or their pools would not fork (``workers.batch``)."""
+    import gc
     import threading
     import time
     from concurrent.futures import ThreadPoolExecutor
@@ -129,6 +130,10 @@ def _release_dask_threads() -> None:
     utils._offload_executor = ThreadPoolExecutor(1, thread_name_prefix="Dask-Offload")
     deadline = time.monotonic() + 30
     while threading.active_count() > 1:  # the clients' event loops end as they close
+        # an unreferenced Dask client or cluster held in a reference cycle stops its event
+        # loop only when collected, and nothing allocates here to set the collector going:
+        # on a busy machine the "IO loop" thread stayed, idle, until this gave up
+        gc.collect()
         names = [thread.name for thread in threading.enumerate()]
         assert time.monotonic() < deadline, f"threads outlived the Dask tests: {names}"
         time.sleep(0.05)
