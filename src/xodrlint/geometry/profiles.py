@@ -28,7 +28,7 @@ from typing import Final, NamedTuple
 from lxml import etree
 
 from xodrlint.model import RailNetwork, Road, numbers
-from xodrlint.model.lane_profiles import S_TOLERANCE
+from xodrlint.model.lane_profiles import S_TOLERANCE, quadratic_roots
 
 _VALUES: Final = ("s", "a", "b", "c", "d")
 
@@ -214,20 +214,6 @@ def _entry(element: etree._Element) -> Entry:
         else None
     )
     return Entry(element, s, cubic)
-
-
-def quadratic_roots(a: float, b: float, c: float) -> tuple[float, ...]:
-    """The real roots of ``a·x² + b·x + c`` (a linear one where ``a`` is 0), computed
-    without cancellation; none where the discriminant is negative or not finite."""
-    if a == 0:
-        return (-c / b,) if b != 0 else ()
-    discriminant = b * b - 4 * a * c
-    if not math.isfinite(discriminant) or discriminant < 0:
-        return ()
-    q = -0.5 * (b + math.copysign(math.sqrt(discriminant), b))
-    if q == 0:
-        return (0.0,)
-    return (q / a, c / q)
 
 
 def _largest(

@@ -155,12 +155,15 @@ def _candidates(poly: Poly, start: float, end: float) -> Iterator[float]:
     yield start
     yield end
     length = end - start
-    for x in _quadratic_roots(3 * poly.d, 2 * poly.c, poly.b):
+    for x in quadratic_roots(3 * poly.d, 2 * poly.c, poly.b):
         if 0 < x < length:
             yield start + x
 
 
-def _quadratic_roots(a: float, b: float, c: float) -> tuple[float, ...]:
+def quadratic_roots(a: float, b: float, c: float) -> tuple[float, ...]:
+    """The real roots of ``a·x² + b·x + c`` (a linear one where ``a`` is 0); none where
+    the discriminant is negative or not finite. Also the extremes of the elevation and
+    superelevation cubics (:mod:`xodrlint.geometry.profiles`)."""
     if a == 0:
         return (-c / b,) if b != 0 else ()
     discriminant = b * b - 4 * a * c
