@@ -22,7 +22,6 @@ or beyond it: the lane folds back on itself (a cusp, radius 0). Elsewhere (``pol
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections.abc import Iterator, Sequence
 from typing import Final, NamedTuple
@@ -41,7 +40,7 @@ from xodrlint.geometry.curves import (
 )
 from xodrlint.geometry.planview import ReferenceLine
 from xodrlint.model import Lane, RailNetwork, Road, number
-from xodrlint.model.lane_profiles import S_TOLERANCE, Piecewise, Poly, centre_terms
+from xodrlint.model.lane_profiles import S_TOLERANCE, Piecewise, Poly, centre_terms, summed_pieces
 from xodrlint.model.network import section_ranges
 
 #: The longest step between two samples of a curvature that is not exact (m).
@@ -182,28 +181,10 @@ def lateral_stretches(
     start = max([start, *(function.defined_from for _, function in terms)])
     if end - start <= S_TOLERANCE:
         return []
-    breaks = sorted(
-        {
-            base
-            for _, function in terms
-            for base in function.starts
-            if start + S_TOLERANCE < base < end - S_TOLERANCE
-        }
-    )
-    bounds = [start, *breaks, end]
-    stretches = []
-    for low, high in itertools.pairwise(bounds):
-        summed = Poly(low, 0.0, 0.0, 0.0, 0.0)
-        for weight, function in terms:
-            piece = function.piece_at(low)
-            if piece is None:
-                return None
-            part = piece.shifted(low).scaled(weight)
-            summed = Poly(
-                low, summed.a + part.a, summed.b + part.b, summed.c + part.c, summed.d + part.d
-            )
-        stretches.append(Stretch(low, high, summed))
-    return stretches
+    pieces = summed_pieces(terms, start, end)
+    if pieces is None:
+        return None
+    return [Stretch(low, high, summed) for low, high, summed in pieces]
 
 
 def tightest_bend(record: Record, start: float, end: float, lateral: Poly) -> Bend | None:

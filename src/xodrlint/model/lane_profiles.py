@@ -106,21 +106,11 @@ def extremes(terms: Sequence[tuple[float, Piecewise]], start: float, end: float)
     constant = _constant_sum(terms, start)
     if constant is not None:  # most lanes: one constant width, one constant offset
         return Extremes(constant, start, constant, start) if math.isfinite(constant) else None
-    breaks = sorted(
-        {b for _, fn in terms for b in fn.starts if start + S_TOLERANCE < b < end - S_TOLERANCE}
-    )
-    bounds = [start, *breaks, end]
+    stretches = summed_pieces(terms, start, end)
+    if stretches is None:
+        return None
     found: Extremes | None = None
-    for low_s, high_s in itertools.pairwise(bounds):
-        summed = Poly(low_s, 0.0, 0.0, 0.0, 0.0)
-        for weight, fn in terms:
-            piece = fn.piece_at(low_s)
-            if piece is None:
-                return None
-            part = piece.shifted(low_s).scaled(weight)
-            summed = Poly(
-                low_s, summed.a + part.a, summed.b + part.b, summed.c + part.c, summed.d + part.d
-            )
+    for low_s, high_s, summed in stretches:
         for s in _candidates(summed, low_s, high_s):
             value = summed.at(s)
             if not math.isfinite(value):
@@ -132,6 +122,31 @@ def extremes(terms: Sequence[tuple[float, Piecewise]], start: float, end: float)
             elif value > found.high:
                 found = Extremes(found.low, found.s_low, value, s)
     return found
+
+
+def summed_pieces(
+    terms: Sequence[tuple[float, Piecewise]], start: float, end: float
+) -> list[tuple[float, float, Poly]] | None:
+    """``Σ weight·function`` over ``[start, end]`` as one cubic per stretch between the
+    functions' piece starts, each written around its stretch's start; ``None`` where a
+    function has no piece there. Shared by :func:`extremes` and the lane curvature of
+    :mod:`xodrlint.geometry.curvature`."""
+    breaks = sorted(
+        {b for _, fn in terms for b in fn.starts if start + S_TOLERANCE < b < end - S_TOLERANCE}
+    )
+    stretches = []
+    for low, high in itertools.pairwise([start, *breaks, end]):
+        summed = Poly(low, 0.0, 0.0, 0.0, 0.0)
+        for weight, fn in terms:
+            piece = fn.piece_at(low)
+            if piece is None:
+                return None
+            part = piece.shifted(low).scaled(weight)
+            summed = Poly(
+                low, summed.a + part.a, summed.b + part.b, summed.c + part.c, summed.d + part.d
+            )
+        stretches.append((low, high, summed))
+    return stretches
 
 
 def _constant_sum(terms: Sequence[tuple[float, Piecewise]], start: float) -> float | None:
