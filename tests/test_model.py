@@ -167,3 +167,36 @@ def test_a_model_holds_no_reference_cycles() -> None:
     finally:
         gc.unfreeze()
         (gc.enable if was else gc.disable)()
+
+
+_PARTS = (
+    b'<OpenDRIVE><header revMajor="1" revMinor="7"/>'
+    b'<road id="1" length="10"><link><!-- to the yard -->'
+    b'<successor elementType="road" elementId="2" contactPoint="start"/>'
+    b'<predecessor elementType="junction" elementId="7"/></link>'
+    b'<elevationProfile><elevation s="0" a="1" b="0" c="0" d="0"/></elevationProfile>'
+    b'<lateralProfile/><railroad><switch id="9" name="W9" position="dynamic">'
+    b'<mainTrack id="1" s="5" dir="+"/><sideTrack id="2" s="0" dir="+"/></switch></railroad>'
+    b'<link><successor elementType="road" elementId="3"/></link></road>'
+    b'<road id="2" length="10"/></OpenDRIVE>'
+)
+
+
+def test_links_and_profiles_read_with_the_switches_equal_those_read_on_their_own() -> None:
+    from xodrlint.model import Road
+
+    root = load_bytes(_PARTS, "p.xodr").root
+    assert root is not None
+    network = build_network(root)
+    built = network.roads[0]
+    alone = Road(built.element, "1", 10.0, False)  # made without the model's pass
+    assert alone.links == built.links
+    assert [(link.kind, link.element_id, link.contact_point) for link in built.links] == [
+        ("successor", "2", "start"),
+        ("predecessor", "7", None),
+        ("successor", "3", None),
+    ]
+    assert [element.tag for element in alone.profiles] == ["elevationProfile", "lateralProfile"]
+    assert list(alone.profiles) == list(built.profiles)
+    assert [switch.id for switch in network.switches] == ["9"]
+    assert network.roads[1].links == () and network.roads[1].profiles == ()

@@ -228,3 +228,34 @@ def test_an_unreadable_entry_gives_silence_there(attribute: str, value: str) -> 
     if attribute != "s":
         expected.append(("TR012", first_line))  # 0.01·50 = 0.5 rad before the bad entry
     assert found == sorted(expected)
+
+
+def test_unreadable_entries_are_listed_in_document_order_and_tracks_with_entries_once() -> None:
+    from xodrlint.document import load_bytes
+    from xodrlint.geometry.profiles import VerticalProfiles
+    from xodrlint.model import build_network
+
+    lane = (
+        '<lanes><laneSection s="0"><right><lane id="-1" type="rail" level="false">'
+        '<width sOffset="0" a="1.5" b="0" c="0" d="0"/></lane></right></laneSection></lanes>'
+    )
+    entries = (
+        '<elevation s="50" a="0" b="x" c="0" d="0"/><elevation s="0" a="0" b="0" c="0" d="0"/>'
+        '<elevation s="20" a="NaN" b="0" c="0" d="0"/>'
+    )
+    document = (
+        '<OpenDRIVE><header revMajor="1" revMinor="7"/>'
+        f'<road id="1" length="100"><elevationProfile>{entries}</elevationProfile>{lane}</road>'
+        f'<road id="2" length="100">{lane}</road>'
+        f'<road id="3" length="100"><elevationProfile>{entries}</elevationProfile></road>'
+        "</OpenDRIVE>"
+    )
+    network = build_network(load_bytes(document.encode(), "v.xodr").root)
+    profiles = network.shared(VerticalProfiles)
+    tracks = profiles.tracks(network)
+    assert [road.id for road, _, _ in tracks] == ["1"]  # a track with entries; no road
+    assert profiles.tracks(network) is tracks
+    _, elevation, superelevation = tracks[0]
+    assert [entry.s for entry in elevation.entries] == [0.0, 20.0, 50.0]  # by s
+    assert [entry.element.get("s") for entry in elevation.unreadable] == ["50", "20"]
+    assert superelevation.unreadable == ()

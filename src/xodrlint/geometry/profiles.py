@@ -102,9 +102,11 @@ class Step(NamedTuple):
 class Profile:
     """One road's entries of one kind, in the order they hold."""
 
-    __slots__ = ("entries", "length")
+    __slots__ = ("entries", "length", "unreadable")
 
     def __init__(self, entries: tuple[Entry, ...], length: float | None) -> None:
+        #: The entries that are not readable, in document order (TR014 reports them).
+        self.unreadable = tuple(entry for entry in entries if not entry.readable)
         if len(entries) > 1 and all(entry.s is not None for entry in entries):
             entries = tuple(sorted(entries, key=lambda entry: entry.s or 0.0))
         self.entries = entries
@@ -172,6 +174,19 @@ class VerticalProfiles:
     def __init__(self, network: RailNetwork) -> None:
         del network  # taken as RailNetwork.shared makes it; roads are passed per call
         self._profiles: dict[Road, tuple[Profile, Profile]] = {}
+        self._tracks: list[tuple[Road, Profile, Profile]] | None = None
+
+    def tracks(self, network: RailNetwork) -> list[tuple[Road, Profile, Profile]]:
+        """Each road of ``network`` with a rail or tram lane and at least one elevation or
+        superelevation entry, with both its profiles (listed once per file: a railway's
+        four profile rules then pass over the tracks that have entries only)."""
+        if self._tracks is None:
+            self._tracks = []
+            for road in network.rail_roads:
+                elevation, superelevation = self._read(road)
+                if elevation.entries or superelevation.entries:
+                    self._tracks.append((road, elevation, superelevation))
+        return self._tracks
 
     def elevation(self, road: Road) -> Profile:
         """The road's elevation profile (``elevationProfile/elevation``)."""
@@ -191,10 +206,11 @@ class VerticalProfiles:
     def _read(self, road: Road) -> tuple[Profile, Profile]:
         found = self._profiles.get(road)
         if found is None:
-            # both kinds in one pass over the road's children: most tracks have neither
+            # both kinds from the one pass over the road's children that also reads its
+            # links (most tracks have neither)
             elevation: list[Entry] = []
             superelevation: list[Entry] = []
-            for container in road.element.iterchildren("elevationProfile", "lateralProfile"):
+            for container in road.profiles:
                 if container.tag == "elevationProfile":
                     elevation.extend(map(_entry, container.iterchildren("elevation")))
                 else:

@@ -99,21 +99,44 @@ class TrackGeometry:
         except KeyError:
             constant = self._constant_centres[key] = _constant_centre(road, section, lane)
         if constant is not None and section.s is not None and s >= section.s - S_TOLERANCE:
-            return self._evaluate(road, s, lambda: constant)
+            return self._evaluate(road, s, constant=constant)
         return self._evaluate(road, s, lambda: _lane_centre(road, section, lane, s))
 
     def _evaluate(
-        self, road: Road, s: float, lateral_of: Callable[[], float | None] | None = None
+        self,
+        road: Road,
+        s: float,
+        lateral_of: Callable[[], float | None] | None = None,
+        constant: float | None = None,
     ) -> TrackPoint | None:
-        line = self.reference_line(road)
-        record = line.record_at(s) if line is not None and math.isfinite(s) else None
+        """The point ``constant`` (else ``lateral_of()``, else the track's t) metres left
+        of ``road``'s reference line at ``s``; the lateral is computed only for a point
+        on the plan view."""
+        try:
+            view = self._plan_views[road]
+        except KeyError:
+            view = self.plan_view(road)
+        line = view.line
+        if line is None or not math.isfinite(s):
+            return None
+        record = line.record_at(s)
         if record is None:
             return None
         try:
-            lateral = self._lateral(road, s) if lateral_of is None else lateral_of()
+            lateral = constant
             if lateral is None:
-                return None
-            pose = record.pose_at(min(max(s - record.s, 0.0), record.length))
+                lateral = self._lateral(road, s) if lateral_of is None else lateral_of()
+                if lateral is None:
+                    return None
+            ds = min(max(s - record.s, 0.0), record.length)
+            # a road's two ends are where joints are judged: their poses were worked out
+            # when the plan view was judged (the same computation)
+            if ds == record.length and record is line.records[-1]:
+                pose = view.ends[-1][1]
+            elif ds == 0.0 and record is line.records[0]:
+                pose = view.ends[0][0]
+            else:
+                pose = record.pose_at(ds)
             x, y = pose.offset(lateral)
         except (ArithmeticError, ValueError):
             # a record whose numbers are each finite can still overflow in between (a

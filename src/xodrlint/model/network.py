@@ -15,6 +15,7 @@ import re
 import weakref
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 from types import MappingProxyType
 from typing import Final, NamedTuple, TypeVar, cast
 
@@ -191,7 +192,9 @@ class Road:
     __slots__ = (
         "__weakref__",
         "_lanes",
+        "_link_elements",
         "_links",
+        "_profiles",
         "_template",
         "_templates",
         "element",
@@ -214,6 +217,10 @@ class Road:
         self.has_rail_lane = has_rail_lane
         self._lanes: RoadLanes | None = None
         self._links: tuple[RoadLink, ...] | None = None
+        # the road's link and profile elements, when the model's one pass over the
+        # road's children found them (None: not looked for yet)
+        self._link_elements: tuple[etree._Element, ...] | None = None
+        self._profiles: tuple[etree._Element, ...] | None = None
         # the template road once known, None for this road itself: no road refers to
         # itself, and the layouts refer to their roads weakly, so a model holds no
         # cycles (the command line freezes what a lint made; a cycle there never died)
@@ -256,9 +263,35 @@ class Road:
     @property
     def links(self) -> tuple["RoadLink", ...]:
         """The road's ``link/predecessor`` and ``link/successor``, in document order."""
-        if self._links is None:
-            self._links = _read_links(self.element)
-        return self._links
+        links = self._links
+        if links is None:
+            if self._link_elements is None:
+                self.found_parts(*_link_and_profile_elements(self.element))
+            assert self._link_elements is not None
+            links = self._links = tuple(
+                RoadLink(
+                    end, tag, end.get("elementType"), end.get("elementId"), end.get("contactPoint")
+                )
+                for link in self._link_elements
+                for end in link
+                if (tag := end.tag) == "predecessor" or tag == "successor"
+            )
+        return links
+
+    @property
+    def profiles(self) -> tuple[etree._Element, ...]:
+        """The road's ``elevationProfile`` and ``lateralProfile`` elements, in document order."""
+        if self._profiles is None:
+            self.found_parts(*_link_and_profile_elements(self.element))
+        assert self._profiles is not None
+        return self._profiles
+
+    def found_parts(
+        self, links: tuple[etree._Element, ...], profiles: tuple[etree._Element, ...]
+    ) -> None:
+        """The road's ``link`` and its ``elevationProfile`` and ``lateralProfile`` elements,
+        found by a pass over its children made anyway (the model's, reading switches)."""
+        self._link_elements, self._profiles = links, profiles
 
     @property
     def lane_sections(self) -> tuple[LaneSection, ...]:
@@ -512,10 +545,11 @@ class RailNetwork:
             found = self.derived[key] = kind(self)
         return cast(_V, found)
 
-    @property
-    def rail_roads(self) -> Iterable[Road]:
-        """Roads with a rail or tram lane: the only ones the lane rules read lanes of."""
-        return (road for road in self.roads if road.has_rail_lane)
+    @cached_property
+    def rail_roads(self) -> tuple[Road, ...]:
+        """Roads with a rail or tram lane: the only ones the lane rules read lanes of
+        (listed once: a railway's track rules pass over them a dozen times)."""
+        return tuple(road for road in self.roads if road.has_rail_lane)
 
     @property
     def platforms(self) -> Iterable[Platform]:
@@ -549,7 +583,23 @@ def build_network(
                 child, child.get("id"), number(child, "length"), child in rail_roads, templates
             )
             roads.append(road)
-            switches.extend(_read_switches(child, road))
+            # one pass over the road's children for its switches, and the elements the
+            # track rules read of every track: a second pass cost a microsecond a road
+            links: tuple[etree._Element, ...] = ()
+            profiles: tuple[etree._Element, ...] = ()
+            for part in child.iterchildren(
+                "link", "elevationProfile", "lateralProfile", "railroad"
+            ):
+                part_tag = part.tag
+                if part_tag == "railroad":
+                    switches.extend(
+                        _read_switch(switch, road) for switch in part.iterchildren("switch")
+                    )
+                elif part_tag == "link":
+                    links += (part,)
+                else:
+                    profiles += (part,)
+            road.found_parts(links, profiles)
         elif tag == "station":
             stations.append(_read_station(child))
         else:
@@ -580,18 +630,14 @@ def _read_lanes(road: etree._Element) -> RoadLanes:
     return RoadLanes(tuple(sections), tuple(offsets), complete)
 
 
-def _read_links(road: etree._Element) -> tuple[RoadLink, ...]:
-    return tuple(
-        RoadLink(
-            end,
-            str(end.tag),
-            end.get("elementType"),
-            end.get("elementId"),
-            end.get("contactPoint"),
-        )
-        for link in road.iterchildren("link")
-        for end in link.iterchildren("predecessor", "successor")
-    )
+def _link_and_profile_elements(
+    road: etree._Element,
+) -> tuple[tuple[etree._Element, ...], tuple[etree._Element, ...]]:
+    links: list[etree._Element] = []
+    profiles: list[etree._Element] = []
+    for child in road.iterchildren("link", "elevationProfile", "lateralProfile"):
+        (links if child.tag == "link" else profiles).append(child)
+    return tuple(links), tuple(profiles)
 
 
 def _read_connections(junction: etree._Element) -> tuple[Connection, ...]:
@@ -653,14 +699,6 @@ def _cubic(entry: etree._Element, start_attribute: str) -> Cubic | None:
     if start is None or a is None or b is None or c is None or d is None:
         return None
     return Cubic(entry, start, a, b, c, d)
-
-
-def _read_switches(road_element: etree._Element, road: Road) -> list[Switch]:
-    return [
-        _read_switch(switch, road)
-        for railroad in road_element.iterchildren("railroad")
-        for switch in railroad.iterchildren("switch")
-    ]
 
 
 def _read_switch(switch: etree._Element, road: Road) -> Switch:

@@ -240,25 +240,38 @@ def _unanswered(
     """Why ``target``'s link at ``target_end`` does not name ``road`` at ``end`` back;
     ``None`` when it does (a missing contact point there is TR005's, on that link)."""
     kind = LINK_AT[target_end]
-    answer = next((link for link in target.links if link.kind == kind), None)
-    joined = f"joins the {target_end} of road '{target.id}', but the {kind} of road '{target.id}'"
+    answer = None
+    for link in target.links:
+        if link.kind == kind:
+            answer = link
+            break
+    if answer is not None and answer.element_type == "road" and answer.element_id is not None:
+        # nearly every link of a railway: first, and no words made for it
+        if answer.element_id == road.id:
+            if answer.contact_point in LINK_AT and answer.contact_point != end:
+                return (
+                    f"{_answer(target, target_end)} names the {answer.contact_point} of road "
+                    f"'{road.id}', not its {end}"
+                )
+            return None
+        return f"{_answer(target, target_end)} names road '{answer.element_id}'"
     if answer is None or answer.element_id is None:
-        return f"{joined} names nothing"
+        return f"{_answer(target, target_end)} names nothing"
     if answer.element_type == "junction":
         junction = network.junction_by_id.get(answer.element_id)
         if junction is None or _connects(junction, road):
             return None  # a missing junction is TR003's, on that link
         return (
-            f"{joined} names junction '{answer.element_id}', of which road '{road.id}' is "
-            "not a connecting road"
+            f"{_answer(target, target_end)} names junction '{answer.element_id}', of which "
+            f"road '{road.id}' is not a connecting road"
         )
-    if answer.element_type != "road":
-        return None  # the schema reports the element type
-    if answer.element_id != road.id:
-        return f"{joined} names road '{answer.element_id}'"
-    if answer.contact_point in LINK_AT and answer.contact_point != end:
-        return f"{joined} names the {answer.contact_point} of road '{road.id}', not its {end}"
-    return None
+    return None  # the schema reports the element type
+
+
+def _answer(target: Road, target_end: str) -> str:
+    """The start of a message on a link that goes unanswered at ``target``'s end."""
+    kind = LINK_AT[target_end]
+    return f"joins the {target_end} of road '{target.id}', but the {kind} of road '{target.id}'"
 
 
 def _connects(junction: Junction, road: Road) -> bool:
@@ -270,27 +283,40 @@ def _connects(junction: Junction, road: Road) -> bool:
 
 def find_joints(network: RailNetwork, links: Sequence[TrackLink]) -> Iterator[Joint]:
     tracks: TrackGeometry | None = None
-    seen: set[frozenset[tuple[int, str]]] = set()
+    # each joint is named by the links of both its roads: the road ends joined so far
+    seen: set[tuple[int, str, int, str]] = set()
+    # the joined lanes of each pair of lane layouts and ends, as (section, lane) positions:
+    # a railway joins thousands of tracks of a few layouts
+    layouts: dict[tuple[int, str, int, str], _LanePairs] = {}
     for judged in links:
         target, link = judged.target, judged.link
         if target is None or not target.has_rail_lane or link.contact_point not in LINK_AT:
             continue
         if judged.fault is not None and not judged.reported:
             continue  # the other link of a pair TR004 reports once: neither is judged
-        key = frozenset(
-            {(id(judged.road.element), judged.end), (id(target.element), link.contact_point)}
-        )
-        if key in seen:
+        road, end, target_end = judged.road, judged.end, link.contact_point
+        if (id(target), target_end, id(road), end) in seen:
             continue
-        seen.add(key)
+        seen.add((id(road), end, id(target), target_end))
         if tracks is None:
             from xodrlint.geometry.tracks import TrackGeometry  # loaded only for a railway
 
             tracks = network.shared(TrackGeometry)
-        lanes = _joined_lanes(tracks, judged.road, judged.end, target, link.contact_point)
-        yield Joint(
-            link, judged.road, judged.end, target, link.contact_point, judged.fault is None, lanes
+        first_layout, second_layout = road.lane_template, target.lane_template
+        layout = (id(first_layout), end, id(second_layout), target_end)
+        pairs = layouts.get(layout)
+        if pairs is None:
+            pairs = layouts[layout] = _lane_pairs(first_layout, end, second_layout, target_end)
+        lanes = tuple(
+            JoinedLanes(
+                LaneEnd(road, *first),
+                LaneEnd(target, *second),
+                _point(tracks, road, first, end),
+                _point(tracks, target, second, target_end),
+            )
+            for first, second in pairs
         )
+        yield Joint(link, road, end, target, target_end, judged.fault is None, lanes)
 
 
 def rail_lanes_at(road: Road, end: str) -> list[LaneEnd]:
@@ -310,9 +336,14 @@ def _links_at(lane: Lane, end: str) -> tuple[LaneLink, ...]:
     return lane.predecessors if end == "start" else lane.successors
 
 
-def _joined_lanes(
-    tracks: TrackGeometry, first: Road, first_end: str, second: Road, second_end: str
-) -> tuple[JoinedLanes, ...]:
+#: A lane of a lane layout's section: the section's index, the lane's, both as read.
+_LanePosition = tuple[int, int, LaneSection, Lane]
+#: The joined lanes of two lane layouts' ends, as positions in each.
+_LanePairs = tuple[tuple[_LanePosition, _LanePosition], ...]
+
+
+def _lane_pairs(first: Road, first_end: str, second: Road, second_end: str) -> _LanePairs:
+    """The joined lanes of the ends of two roads (read from their lane templates)."""
     firsts, seconds = rail_lanes_at(first, first_end), rail_lanes_at(second, second_end)
     first_section = end_section(first, first_end)
     second_section = end_section(second, second_end)
@@ -338,18 +369,11 @@ def _joined_lanes(
         # the one-lane-each default: joined whatever their lane links say (a link of one
         # into a road lane of the other is TR007's)
         pairs = [(firsts[0].lane.id, seconds[0].lane.id)]
-    return tuple(
-        JoinedLanes(
-            by_first[a],
-            by_second[b],
-            _point(tracks, by_first[a], first_end),
-            _point(tracks, by_second[b], second_end),
-        )
-        for a, b in pairs
-    )
+    return tuple((by_first[a][1:], by_second[b][1:]) for a, b in pairs)
 
 
-def _point(tracks: TrackGeometry, lane_end: LaneEnd, end: str) -> TrackPoint | None:
-    road = lane_end.road
+def _point(
+    tracks: TrackGeometry, road: Road, position: _LanePosition, end: str
+) -> TrackPoint | None:
     s = 0.0 if end == "start" else (road.length if road.length is not None else math.nan)
-    return tracks.lane_point(road, lane_end.section, lane_end.lane, s)
+    return tracks.lane_point(road, position[2], position[3], s)

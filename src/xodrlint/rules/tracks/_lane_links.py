@@ -33,42 +33,58 @@ class LaneLinkTarget(NamedTuple):
 
 def lane_link_targets(network: RailNetwork, links: Sequence[TrackLink]) -> Iterator[LaneLinkTarget]:
     """Where each lane link of each rail lane of each track points, where that is known."""
-    at_end = {(id(judged.road.element), judged.end): judged for judged in links}
+    at_end: dict[tuple[int, str], TrackLink] | None = None  # made when a lane link needs it
+    # the rail lanes with lane links of each lane layout: a railway's are a few, most
+    # linking no lanes at all
+    linking: dict[int, list[tuple[int, int, LaneSection, Lane]]] = {}
     for road in network.rail_roads:
-        sections = road.lane_template.lane_sections
-        for section_index, section in enumerate(sections):
-            for lane_index, lane in enumerate(section.lanes):
-                if not lane.is_rail:
+        template = road.lane_template
+        lanes = linking.get(id(template))
+        if lanes is None:
+            lanes = linking[id(template)] = _linking_rail_lanes(template)
+        sections = template.lane_sections
+        for section_index, lane_index, section, lane in lanes:
+            source = LaneEnd(road, section_index, lane_index, section, lane)
+            if at_end is None:
+                at_end = {(id(judged.road.element), judged.end): judged for judged in links}
+            for kind, lane_links in (
+                ("predecessor", lane.predecessors),
+                ("successor", lane.successors),
+            ):
+                if not lane_links:
                     continue
-                source = LaneEnd(road, section_index, lane_index, section, lane)
-                for kind, lane_links in (
-                    ("predecessor", lane.predecessors),
-                    ("successor", lane.successors),
-                ):
-                    if not lane_links:
-                        continue  # most tracks of a railway link no lanes: nothing to find
-                    target = _pointed_section(road, sections, section_index, kind, at_end)
-                    if target is None:
-                        continue
-                    target_road, target_section, where, crossing = target
-                    for index, lane_link in enumerate(lane_links):
-                        if lane_link.id is None:
-                            continue  # not an integer: the schema reports it
-                        named = next(
-                            (other for other in target_section.lanes if other.id == lane_link.id),
-                            None,
-                        )
-                        yield LaneLinkTarget(
-                            source,
-                            kind,
-                            index,
-                            lane_link,
-                            target_road,
-                            target_section,
-                            where,
-                            named,
-                            crossing,
-                        )
+                target = _pointed_section(road, sections, section_index, kind, at_end)
+                if target is None:
+                    continue
+                target_road, target_section, where, crossing = target
+                for index, lane_link in enumerate(lane_links):
+                    if lane_link.id is None:
+                        continue  # not an integer: the schema reports it
+                    named = next(
+                        (other for other in target_section.lanes if other.id == lane_link.id),
+                        None,
+                    )
+                    yield LaneLinkTarget(
+                        source,
+                        kind,
+                        index,
+                        lane_link,
+                        target_road,
+                        target_section,
+                        where,
+                        named,
+                        crossing,
+                    )
+
+
+def _linking_rail_lanes(template: Road) -> list[tuple[int, int, LaneSection, Lane]]:
+    """The rail and tram lanes of a lane layout that have lane links, by position."""
+    return [
+        (section_index, lane_index, section, lane)
+        for section_index, section in enumerate(template.lane_sections)
+        for lane_index, lane in enumerate(section.lanes)
+        if lane.is_rail and (lane.predecessors or lane.successors)
+    ]
 
 
 def _pointed_section(

@@ -4,7 +4,6 @@ points (:class:`~xodrlint.geometry.tracks.TrackGeometry`)."""
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
 from xodrlint.model import RailNetwork, Road
@@ -13,11 +12,22 @@ if TYPE_CHECKING:
     from xodrlint.geometry.evaluable import PlanView
 
 
-def track_plan_views(network: RailNetwork) -> Iterator[tuple[Road, PlanView]]:
-    """Each road with a rail or tram lane, with its plan view judged."""
-    from xodrlint.geometry.tracks import TrackGeometry  # loaded only for a railway
+class TrackPlanViews(list[tuple[Road, "PlanView"]]):
+    """Each road with a rail or tram lane, with its plan view judged; listed once per file
+    (through :meth:`~xodrlint.model.RailNetwork.shared`) for the rules that pass over
+    every track."""
 
-    tracks: TrackGeometry | None = None
-    for road in network.rail_roads:
-        tracks = tracks or network.shared(TrackGeometry)
-        yield road, tracks.plan_view(road)
+    def __init__(self, network: RailNetwork) -> None:
+        from xodrlint.geometry.tracks import TrackGeometry  # loaded only for a railway
+
+        roads = list(network.rail_roads)
+        if not roads:
+            super().__init__()
+            return
+        tracks = network.shared(TrackGeometry)
+        super().__init__((road, tracks.plan_view(road)) for road in roads)
+
+
+def track_plan_views(network: RailNetwork) -> list[tuple[Road, PlanView]]:
+    """Each road with a rail or tram lane, with its plan view judged."""
+    return network.shared(TrackPlanViews)

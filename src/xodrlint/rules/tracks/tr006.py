@@ -72,6 +72,8 @@ def rail_lane_link_target_missing(network: RailNetwork) -> Iterator[Hit]:
 def _junction_lane_links(network: RailNetwork) -> Iterator[Hit]:
     """The ``laneLink`` elements of the junctions tracks lead into or run through: a junction
     no track names is a road junction, and its connections are not read."""
+    if not network.junctions:
+        return  # nothing to read (a railway without junctions: thousands of tracks)
     wanted = {
         link.element_id
         for road in network.rail_roads

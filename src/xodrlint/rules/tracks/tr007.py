@@ -101,19 +101,30 @@ def _unjoined_lane_ends(
     lane. A road end in a junction is reached by several connecting roads, each joining
     one of its lanes: the end is judged by all of them together, and not at all when one
     of its links is wrong (TR004 reports it)."""
-    at_end: dict[tuple[int, str], tuple[Road, str, list[Joint], set[int | None]]] = {}
+    # each road end with its joints, and whether the road is each joint's first
+    at_end: dict[tuple[int, str], list[tuple[Joint, bool]]] = {}
     for joint in joints:
-        sides = (
-            (joint.first, joint.first_end, {pair.first.lane.id for pair in joint.lanes}),
-            (joint.second, joint.second_end, {pair.second.lane.id for pair in joint.lanes}),
-        )
-        for road, end, joined in sides:
-            entry = at_end.setdefault((id(road.element), end), (road, end, [], set()))
-            entry[2].append(joint)
-            entry[3].update(joined)
-    for road_end, (road, end, its_joints, joined) in at_end.items():
-        if road_end in unknown_ends or not all(joint.answered for joint in its_joints):
+        at_end.setdefault((id(joint.first.element), joint.first_end), []).append((joint, True))
+        at_end.setdefault((id(joint.second.element), joint.second_end), []).append((joint, False))
+    # the rail lane ids at each end of each lane layout (a railway has a few layouts)
+    rail_ids: dict[tuple[int, str], frozenset[int | None]] = {}
+    for road_end, found in at_end.items():
+        if road_end in unknown_ends or not all(joint.answered for joint, _ in found):
             continue
+        some, first = found[0]
+        road, end = (some.first, some.first_end) if first else (some.second, some.second_end)
+        joined = {
+            (pair.first if is_first else pair.second).lane.id
+            for joint, is_first in found
+            for pair in joint.lanes
+        }
+        layout = (id(road.lane_template), end)
+        rails = rail_ids.get(layout)
+        if rails is None:
+            rails = rail_ids[layout] = frozenset(lane.lane.id for lane in rail_lanes_at(road, end))
+        if rails <= joined:
+            continue  # every rail lane there joined: nearly every end of a railway
+        its_joints = [joint for joint, _ in found]
         for lane_end in rail_lanes_at(road, end):
             key = lane_end.key(end)
             if lane_end.lane.id in joined or key in settled:

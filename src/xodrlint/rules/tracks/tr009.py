@@ -46,13 +46,16 @@ records that do not join up; TR009 compares only the total length.
 from __future__ import annotations
 
 from collections.abc import Iterator
-from typing import Final
+from typing import TYPE_CHECKING, Final
 
 from xodrlint.findings import Hit, Severity
 from xodrlint.model import RailNetwork, non_finite
 from xodrlint.rules import rule
 from xodrlint.rules._shared import S_TOLERANCE, beyond, metres, quoted
 from xodrlint.rules.tracks._planview import track_plan_views
+
+if TYPE_CHECKING:
+    from xodrlint.geometry import Record
 
 #: The largest difference (m) allowed between a track's length and its plan view's.
 LENGTH_TOLERANCE: Final = 0.01
@@ -71,24 +74,29 @@ def track_length_mismatch(network: RailNetwork) -> Iterator[Hit]:
             continue  # TR014 says why
         last = line.records[-1]
         end = last.s + last.length
-        ends = (
-            f"its plan view ends at s={_metres(end)} (the geometry at s={metres(last.s)} is "
-            f"{_metres(last.length)} m long)"
-        )
         if road.length is None:
             written = non_finite(road.element, "length")
             if written is not None:
                 yield Hit(
-                    road.element, f"track {quoted(road.id)} has length '{written}', but {ends}"
+                    road.element,
+                    f"track {quoted(road.id)} has length '{written}', but {_ends(last)}",
                 )
             continue
         difference = abs(road.length - end)
         if difference > LENGTH_TOLERANCE + S_TOLERANCE:
             yield Hit(
                 road.element,
-                f"track {quoted(road.id)} has length {metres(road.length)}, but {ends}: "
-                f"{beyond(difference, LENGTH_TOLERANCE, 4)} m apart",
+                f"track {quoted(road.id)} has length {metres(road.length)}, but "
+                f"{_ends(last)}: {beyond(difference, LENGTH_TOLERANCE, 4)} m apart",
             )
+
+
+def _ends(last: Record) -> str:
+    """Where the plan view ends, for messages."""
+    return (
+        f"its plan view ends at s={_metres(last.s + last.length)} (the geometry at "
+        f"s={metres(last.s)} is {_metres(last.length)} m long)"
+    )
 
 
 def _metres(value: float) -> str:

@@ -98,8 +98,8 @@ def track_elevation_step(network: RailNetwork, settings: Settings) -> Iterator[H
 def _steps_inside_tracks(
     network: RailNetwork, profiles: VerticalProfiles, tolerance: float
 ) -> Iterator[Hit]:
-    for road in network.rail_roads:
-        for step in profiles.elevation(road).steps():
+    for road, elevation, _ in profiles.tracks(network):
+        for step in elevation.steps():
             size = abs(step.after - step.before)
             if size > tolerance + S_TOLERANCE:
                 yield Hit(
@@ -115,10 +115,11 @@ def joint_steps(
 ) -> Iterator[Hit]:
     """The steps at joints: each joint once, judged by its link and the two ends it joins
     (a joint's ``link``, ``first``, ``first_end``, ``second`` and ``second_end``)."""
+    elevated = {road for road, elevation, _ in profiles.tracks(network) if elevation.entries}
+    if not elevated:
+        return  # every track at elevation 0
     for joint in joints(network):
-        if not (
-            profiles.elevation(joint.first).entries or profiles.elevation(joint.second).entries
-        ):
+        if joint.first not in elevated and joint.second not in elevated:
             continue  # both ends at elevation 0
         ends = []
         for road, end in ((joint.first, joint.first_end), (joint.second, joint.second_end)):

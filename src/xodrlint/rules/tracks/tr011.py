@@ -90,8 +90,8 @@ def track_too_steep(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
 
     rail_limit, tram_limit = MAX_RAIL.number(settings), MAX_TRAM.number(settings)
     profiles = network.shared(VerticalProfiles)
-    for road in network.rail_roads:
-        spans = list(profiles.elevation(road).spans())
+    for road, elevation, _ in profiles.tracks(network):
+        spans = list(elevation.spans())
         if not spans:
             continue
         kind = "rail" if "rail" in road.lane_template.lane_types else "tram"

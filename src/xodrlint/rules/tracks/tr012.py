@@ -81,8 +81,8 @@ def track_cant_too_large(network: RailNetwork, settings: Settings) -> Iterator[H
 
     limit = MAX_CANT.number(settings)
     profiles = network.shared(VerticalProfiles)
-    for road in network.rail_roads:
-        for span in profiles.superelevation(road).spans():
+    for road, _, superelevation in profiles.tracks(network):
+        for span in superelevation.spans():
             largest = span.largest()
             if largest is None or abs(largest[0]) <= limit + _SLACK:
                 continue

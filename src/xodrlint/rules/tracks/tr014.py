@@ -58,25 +58,24 @@ schema's (XS006, with the official schema): TR014 adds what it keeps from being 
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from typing import TYPE_CHECKING, Final
 
 from lxml import etree
 
 from xodrlint.findings import Hit, Severity
-from xodrlint.model import RailNetwork, Road, number, numbers
+from xodrlint.model import RailNetwork, Road, number
 from xodrlint.rules import rule
 from xodrlint.rules._shared import metres, quoted
 from xodrlint.rules.tracks._planview import track_plan_views
 
 if TYPE_CHECKING:
     from xodrlint.geometry import GeometryProblem
+    from xodrlint.geometry.profiles import Entry
 
-#: The profile entries read, by profile, and what a bad one keeps from being judged.
-_PROFILES: Final = (
-    ("elevationProfile", "elevation", "its gradient and elevation steps are"),
-    ("lateralProfile", "superelevation", "its cant is"),
-)
+#: What a bad entry of each profile keeps from being judged.
+_ELEVATION_NOT_JUDGED: Final = "its gradient and elevation steps are"
+_CANT_NOT_JUDGED: Final = "its cant is"
 _ENTRY_ATTRIBUTES: Final = ("s", "a", "b", "c", "d")
 _NOT_JUDGED: Final = (
     "its plan view cannot be evaluated, so its switch points, joints, continuity, "
@@ -91,10 +90,14 @@ _NOT_JUDGED: Final = (
     severity=Severity.ERROR,
 )
 def track_geometry_unreadable(network: RailNetwork) -> Iterator[Hit]:
+    from xodrlint.geometry.profiles import VerticalProfiles
+
     for road, view in track_plan_views(network):
         for problem in view.problems:
             yield Hit(problem.element, f"{_where(road, problem)}; {_NOT_JUDGED}")
-        yield from _unreadable_entries(road)
+    for road, elevation, superelevation in network.shared(VerticalProfiles).tracks(network):
+        yield from _unreadable_entries(road, elevation.unreadable, _ELEVATION_NOT_JUDGED)
+        yield from _unreadable_entries(road, superelevation.unreadable, _CANT_NOT_JUDGED)
 
 
 def _where(road: Road, problem: GeometryProblem) -> str:
@@ -120,19 +123,14 @@ def _entry(element: etree._Element) -> str:
     return f"{element.tag} {siblings.index(element) + 1}"
 
 
-def _unreadable_entries(road: Road) -> Iterator[Hit]:
-    """Each elevation and superelevation entry with a number that is missing, no number
-    or no finite number, read here from its attributes (the vertical rules read the same
-    entries and stay silent on these)."""
+def _unreadable_entries(road: Road, entries: Iterable[Entry], judged: str) -> Iterator[Hit]:
+    """Each elevation or superelevation entry with a number that is missing, no number or
+    no finite number (the vertical rules read the same entries and stay silent on these)."""
     from xodrlint.geometry.planview import unreadable_numbers
 
-    for profile_tag, entry_tag, judged in _PROFILES:
-        for profile in road.element.iterchildren(profile_tag):
-            for entry in profile.iterchildren(entry_tag):
-                if None in numbers(entry, _ENTRY_ATTRIBUTES):
-                    yield Hit(
-                        entry,
-                        f"track {quoted(road.id)}, {_entry(entry)}: lacks a finite number "
-                        f"in {unreadable_numbers(entry, _ENTRY_ATTRIBUTES)}; {judged} not "
-                        "judged there",
-                    )
+    for entry in entries:
+        yield Hit(
+            entry.element,
+            f"track {quoted(road.id)}, {_entry(entry.element)}: lacks a finite number in "
+            f"{unreadable_numbers(entry.element, _ENTRY_ATTRIBUTES)}; {judged} not judged there",
+        )
