@@ -23,8 +23,8 @@ or beyond it: the lane folds back on itself (a cusp, radius 0). Elsewhere (``pol
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Sequence
-from typing import Final, NamedTuple
+from collections.abc import Iterable, Iterator, Sequence
+from typing import TYPE_CHECKING, Final, NamedTuple
 
 from lxml import etree
 
@@ -42,6 +42,9 @@ from xodrlint.geometry.planview import ReferenceLine
 from xodrlint.model import Lane, RailNetwork, Road, number
 from xodrlint.model.lane_profiles import S_TOLERANCE, Piecewise, Poly, centre_terms, summed_pieces
 from xodrlint.model.network import section_ranges
+
+if TYPE_CHECKING:
+    from xodrlint.geometry.evaluable import PlanView
 
 #: The longest step between two samples of a curvature that is not exact (m).
 MAX_STEP: Final = 1.0
@@ -84,7 +87,7 @@ class LaneCurvature:
 
     def __init__(self, network: RailNetwork) -> None:
         del network  # taken as RailNetwork.shared makes it; roads are passed per call
-        self._lanes: dict[tuple[Road, float | None], list[_LaneStretches]] = {}
+        self._lanes: dict[tuple[Road, float | None], tuple[list[_LaneStretches], float | None]] = {}
 
     def bends(
         self, road: Road, line: ReferenceLine, tighter_than: float = math.inf
@@ -94,33 +97,45 @@ class LaneCurvature:
         tightest bend. Lanes whose centre cannot be computed (a lane described by
         ``border``, an unreadable width or offset) and stretches whose numbers overflow
         are left out."""
-        lanes = self._lane_stretches(road, line)
-        if not lanes:
-            return
-        for index, record in enumerate(line.records):
-            low, high = record.s, record.s + record.length
-            sharpest = record.max_curvature()  # None where not known in closed form
-            for lane in lanes:
-                # at a constant offset t the radius is 1/k - |t| at least: most records of
-                # a railway are judged by this bound alone
-                if (
-                    lane.reach is not None
-                    and sharpest is not None
-                    and (sharpest == 0 or 1 / sharpest - lane.reach >= tighter_than)
-                ):
-                    continue
-                tightest: Bend | None = None
-                for stretch in lane.stretches:
-                    start, stop = max(low, stretch.start), min(high, stretch.end)
-                    if stop - start <= S_TOLERANCE:
-                        continue
-                    bend = tightest_bend(record, start, stop, stretch.lateral)
-                    if bend is not None and (tightest is None or bend.radius < tightest.radius):
-                        tightest = bend
-                if tightest is not None and tightest.radius < tighter_than:
-                    yield LaneBend(index, lane.lane, lane.section_start, tightest)
+        lanes = self._candidates(road, line, tighter_than)
+        if lanes:
+            yield from _bends(line, lanes, tighter_than)
 
-    def _lane_stretches(self, road: Road, line: ReferenceLine) -> list[_LaneStretches]:
+    def tracks_bending(
+        self, tracks: Iterable[tuple[Road, PlanView]], tighter_than: float
+    ) -> Iterator[tuple[Road, ReferenceLine, list[LaneBend]]]:
+        """Each of ``tracks`` whose plan view can be evaluated and whose rail or tram lanes
+        bend more tightly than ``tighter_than`` somewhere, with :meth:`bends`' findings
+        (a railway's tracks pass over here without a generator each)."""
+        for road, view in tracks:
+            line = view.line
+            if line is None:
+                continue
+            lanes = self._candidates(road, line, tighter_than)
+            if lanes:
+                found = list(_bends(line, lanes, tighter_than))
+                if found:
+                    yield road, line, found
+
+    def _candidates(
+        self, road: Road, line: ReferenceLine, tighter_than: float
+    ) -> list[_LaneStretches]:
+        """The road's rail and tram lane centres, none when no record can bend any of
+        them more tightly than ``tighter_than``."""
+        lanes, reach = self._lane_stretches(road, line)
+        if lanes and reach is not None:
+            # the bound of :func:`_bends` for the whole road at once: a railway's every
+            # track passes it
+            sharpest = _sharpest(line)
+            if sharpest is not None and (sharpest == 0 or 1 / sharpest - reach >= tighter_than):
+                return []
+        return lanes
+
+    def _lane_stretches(
+        self, road: Road, line: ReferenceLine
+    ) -> tuple[list[_LaneStretches], float | None]:
+        """The road's rail and tram lane centres, and the largest reach of them all
+        (``None`` unless every one of them has one)."""
         template = road.lane_template
         end = road.length
         if end is None:  # the last lane section ends where the plan view does
@@ -129,8 +144,50 @@ class LaneCurvature:
         key = (template, end)
         found = self._lanes.get(key)
         if found is None:
-            found = self._lanes[key] = list(_stretches_of(template, end))
+            lanes = list(_stretches_of(template, end))
+            reaches = [lane.reach for lane in lanes if lane.reach is not None]
+            reach = max(reaches) if lanes and len(reaches) == len(lanes) else None
+            found = self._lanes[key] = (lanes, reach)
         return found
+
+
+def _bends(
+    line: ReferenceLine, lanes: list[_LaneStretches], tighter_than: float
+) -> Iterator[LaneBend]:
+    """See :meth:`LaneCurvature.bends`."""
+    for index, record in enumerate(line.records):
+        low, high = record.s, record.s + record.length
+        sharpest = record.max_curvature()  # None where not known in closed form
+        for lane in lanes:
+            # at a constant offset t the radius is 1/k - |t| at least: most records of
+            # a railway are judged by this bound alone
+            if (
+                lane.reach is not None
+                and sharpest is not None
+                and (sharpest == 0 or 1 / sharpest - lane.reach >= tighter_than)
+            ):
+                continue
+            tightest: Bend | None = None
+            for stretch in lane.stretches:
+                start, stop = max(low, stretch.start), min(high, stretch.end)
+                if stop - start <= S_TOLERANCE:
+                    continue
+                bend = tightest_bend(record, start, stop, stretch.lateral)
+                if bend is not None and (tightest is None or bend.radius < tightest.radius):
+                    tightest = bend
+            if tightest is not None and tightest.radius < tighter_than:
+                yield LaneBend(index, lane.lane, lane.section_start, tightest)
+
+
+def _sharpest(line: ReferenceLine) -> float | None:
+    """The largest curvature bound of ``line``'s records; ``None`` where one has none."""
+    sharpest = 0.0
+    for record in line.records:
+        bound = record.max_curvature()
+        if bound is None:
+            return None
+        sharpest = max(sharpest, bound)
+    return sharpest
 
 
 class _LaneStretches(NamedTuple):

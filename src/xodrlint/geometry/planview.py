@@ -34,6 +34,11 @@ _COEFFICIENTS: Final = {
 }
 
 
+#: How far beyond its ends a record still covers an s (m): the nearest end within a
+#: millimetre counts as covering.
+COVERS: Final = 1e-3
+
+
 class GeometryProblem(NamedTuple):
     """A record (or a road) whose geometry cannot be drawn or judged, and why."""
 
@@ -83,7 +88,7 @@ class ReferenceLine:
         for candidate in (index, index + 1):
             if 0 <= candidate < len(records):
                 record = records[candidate]
-                if record.s - 1e-3 <= s <= record.s + record.length + 1e-3:
+                if record.s - COVERS <= s <= record.s + record.length + COVERS:
                     return record
         return None
 

@@ -183,6 +183,8 @@ class VerticalProfiles:
         if self._tracks is None:
             self._tracks = []
             for road in network.rail_roads:
+                if not road.profiles:
+                    continue  # no entries (nearly every track of a railway)
                 elevation, superelevation = self._read(road)
                 if elevation.entries or superelevation.entries:
                     self._tracks.append((road, elevation, superelevation))

@@ -22,12 +22,12 @@ points: the rules stay silent on it, and TR014 says why.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from typing import Final, NamedTuple
 
 from xodrlint.geometry.curves import MAX_COORDINATE
 from xodrlint.geometry.evaluable import PlanView, judge_plan_view
-from xodrlint.geometry.planview import ReferenceLine
+from xodrlint.geometry.planview import COVERS, ReferenceLine
 from xodrlint.model import Cubic, Lane, LaneSection, RailNetwork, Road
 from xodrlint.model.lane_profiles import S_TOLERANCE, centre_at
 
@@ -59,7 +59,8 @@ def angle_between(first: float, second: float) -> float:
 
 def turn_beyond(first: float, second: float, limit_degrees: float) -> float | None:
     """The angle between two directions (radians) when it exceeds ``limit_degrees``."""
-    angle = angle_between(first, second)
+    angle = abs(math.remainder(first - second, math.tau))  # angle_between, called inline:
+    # a railway's every joint and record boundary is judged by it
     return angle if angle > math.radians(limit_degrees) + _ANGLE_SLACK else None
 
 
@@ -75,7 +76,7 @@ class TrackGeometry:
         self._points: dict[tuple[Road, float], TrackPoint | None] = {}
         # per lane of a lane layout's section: its centre's t where it is the same all
         # along the section (a railway's joints ask for thousands, of a few layouts)
-        self._constant_centres: dict[tuple[int, int | None], float | None] = {}
+        self._constant_centres: dict[int, float | None] = {}
 
     def point(self, road: Road, s: float) -> TrackPoint | None:
         """The track point of ``road`` at ``s``; ``None`` where it cannot be evaluated."""
@@ -93,14 +94,52 @@ class TrackGeometry:
         (a joint judges each pair of joined lanes at their own centres); ``section`` and
         ``lane`` are read from ``road``'s lane template. ``None`` where the lane's centre
         or the plan view cannot be evaluated."""
-        key = (id(section), lane.id)
-        try:
-            constant = self._constant_centres[key]
-        except KeyError:
-            constant = self._constant_centres[key] = _constant_centre(road, section, lane)
+        constant = self._constant_centre(road, section, lane)
         if constant is not None and section.s is not None and s >= section.s - S_TOLERANCE:
-            return self._evaluate(road, s, constant=constant)
+            return self._evaluate(road, s, None, constant)
         return self._evaluate(road, s, lambda: _lane_centre(road, section, lane, s))
+
+    def lane_end_point(
+        self, road: Road, section: LaneSection, lane: Lane, end: str
+    ) -> TrackPoint | None:
+        """:meth:`lane_point` at ``road``'s ``start`` (s=0) or ``end`` (s=``@length``).
+
+        A railway's every joint asks for two: where the lane's centre is constant and the
+        road's end is its plan view's first or last record's own, the point is that
+        record's end pose (worked out when the plan view was judged) moved sideways,
+        found here without looking for the record. The same numbers as
+        :meth:`lane_point`'s: anything else is left to it."""
+        view = self._plan_views.get(road)
+        constant = self._constant_centre(road, section, lane)
+        if view is None or view.line is None or constant is None or section.s is None:
+            return self.lane_point(road, section, lane, _end_s(road, end))
+        line = view.line
+        records = line.records
+        if end == "start":
+            s, first = 0.0, records[0]
+            # record_at(0) is the first record, at its start
+            at_end = 0.0 <= first.s <= COVERS and (len(records) == 1 or line.starts[1] > 0.0)
+            pose = view.ends[0][0] if at_end else None
+        else:
+            s, last = _end_s(road, end), records[-1]
+            # record_at(s) is the last record, at its end
+            at_end = s - last.s >= last.length and s <= last.s + last.length + COVERS
+            pose = view.ends[-1][1] if at_end else None
+        if pose is None or s < section.s - S_TOLERANCE:
+            return self.lane_point(road, section, lane, s)
+        x, y = pose.offset(constant)
+        if not (abs(x) < MAX_COORDINATE and abs(y) < MAX_COORDINATE):
+            return None
+        return TrackPoint(x, y, pose.hdg)
+
+    def _constant_centre(self, road: Road, section: LaneSection, lane: Lane) -> float | None:
+        # by the template lane itself: each is its own object for as long as the file
+        key = id(lane)
+        try:
+            return self._constant_centres[key]
+        except KeyError:
+            found = self._constant_centres[key] = _constant_centre(road, section, lane)
+            return found
 
     def _evaluate(
         self,
@@ -171,11 +210,26 @@ class TrackGeometry:
             found = self._plan_views[road] = judge_plan_view(road.element)
             return found
 
+    def plan_views(self, roads: Iterable[Road]) -> list[tuple[Road, PlanView]]:
+        """Each of ``roads`` with its plan view, judged (see :meth:`plan_view`)."""
+        known = self._plan_views
+        return [
+            (road, view if (view := known.get(road)) is not None else self.plan_view(road))
+            for road in roads
+        ]
+
     def reference_line(self, road: Road) -> ReferenceLine | None:
         """The road's reference line when every record of it can be evaluated (the map
         draws a record whose own length is unreadable up to the next one; a rule judges
         nothing it would have to guess)."""
         return self.plan_view(road).line
+
+
+def _end_s(road: Road, end: str) -> float:
+    """The s of ``road``'s ``start`` or ``end`` (nan where its length is unreadable)."""
+    if end == "start":
+        return 0.0
+    return road.length if road.length is not None else math.nan
 
 
 def _constant_centre(road: Road, section: LaneSection, lane: Lane) -> float | None:

@@ -246,6 +246,10 @@ class Road:
         judge lanes judge each layout once (and read a road's own lanes only to report
         on them); reading every road's lanes was a third of a rail-dense map's run."""
         template = self._template
+        if template is None:
+            return self
+        if isinstance(template, Road):  # asked a hundred thousand times on a railway
+            return template
         if template is _UNKNOWN:
             templates = self._templates
             if templates is None:

@@ -17,7 +17,6 @@ put on the road's own element, found by position.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterator, Sequence
 from typing import TYPE_CHECKING, Final, NamedTuple
 
@@ -109,6 +108,9 @@ class Joint(NamedTuple):
     answered: bool
     """The second road names the first back at that end (else TR004 reports the link)."""
     lanes: tuple[JoinedLanes, ...]
+    joins_all: tuple[bool, bool] = (True, True)
+    """Whether ``lanes`` take in every rail and tram lane of the first road's end, and of
+    the second's (TR007 judges the ends where one does not)."""
 
     def leaving(self, point: TrackPoint) -> float:
         """The direction of travel leaving the first road through the joint."""
@@ -141,7 +143,7 @@ def lane_ids(section: LaneSection) -> str:
     return ", ".join(str(lane_id) for lane_id in ids) or "none"
 
 
-def judged_links(network: RailNetwork) -> Iterator[TrackLink]:
+def judged_links(network: RailNetwork) -> list[TrackLink]:
     found: list[TrackLink] = []
     repeated = _repeated_road_ids(network)
     for road in network.rail_roads:
@@ -149,6 +151,12 @@ def judged_links(network: RailNetwork) -> Iterator[TrackLink]:
             judged = _judge(network, road, link, repeated)
             if judged is not None:
                 found.append(judged)
+    if all(judged.fault != NOT_ANSWERED for judged in found):
+        return found
+    return list(_pairs_reported_once(found))
+
+
+def _pairs_reported_once(found: list[TrackLink]) -> Iterator[TrackLink]:
     # two links that name each other's road and both go unanswered (one names the other
     # road at the wrong end) are one defect: reported once, on the earlier road's link;
     # any other unanswered link is a defect of its own
@@ -189,6 +197,8 @@ def _pair_of(
 
 
 def _repeated_road_ids(network: RailNetwork) -> set[str]:
+    if len(network.road_by_id) == len(network.roads):
+        return set()  # every road has an id of its own
     seen: set[str] = set()
     repeated: set[str] = set()
     for road in network.roads:
@@ -203,7 +213,11 @@ def _judge(
     end = END_OF[link.kind]
     if link.element_id is None:
         return None  # the schema reports the missing attribute
-    if link.element_type == "road" and (road.id in repeated or link.element_id in repeated):
+    if (
+        repeated
+        and link.element_type == "road"
+        and (road.id in repeated or link.element_id in repeated)
+    ):
         return None  # which of the roads of one id is meant is unknown (XS006 reports it)
     if link.element_type == "junction":
         if link.element_id in network.junction_by_id:
@@ -288,13 +302,13 @@ def find_joints(network: RailNetwork, links: Sequence[TrackLink]) -> Iterator[Jo
     # the joined lanes of each pair of lane layouts and ends, as (section, lane) positions:
     # a railway joins thousands of tracks of a few layouts
     layouts: dict[tuple[int, str, int, str], _LanePairs] = {}
-    for judged in links:
-        target, link = judged.target, judged.link
-        if target is None or not target.has_rail_lane or link.contact_point not in LINK_AT:
+    for road, link, end, target, fault, reported, _ in links:
+        target_end = link.contact_point
+        if target is None or not target.has_rail_lane or target_end not in LINK_AT:
             continue
-        if judged.fault is not None and not judged.reported:
+        if fault is not None and not reported:
             continue  # the other link of a pair TR004 reports once: neither is judged
-        road, end, target_end = judged.road, judged.end, link.contact_point
+        assert target_end is not None
         if (id(target), target_end, id(road), end) in seen:
             continue
         seen.add((id(road), end, id(target), target_end))
@@ -304,19 +318,23 @@ def find_joints(network: RailNetwork, links: Sequence[TrackLink]) -> Iterator[Jo
             tracks = network.shared(TrackGeometry)
         first_layout, second_layout = road.lane_template, target.lane_template
         layout = (id(first_layout), end, id(second_layout), target_end)
-        pairs = layouts.get(layout)
-        if pairs is None:
-            pairs = layouts[layout] = _lane_pairs(first_layout, end, second_layout, target_end)
+        joined = layouts.get(layout)
+        if joined is None:
+            joined = layouts[layout] = _lane_pairs(first_layout, end, second_layout, target_end)
         lanes = tuple(
-            JoinedLanes(
-                LaneEnd(road, *first),
-                LaneEnd(target, *second),
-                _point(tracks, road, first, end),
-                _point(tracks, target, second, target_end),
-            )
-            for first, second in pairs
+            [
+                JoinedLanes(
+                    LaneEnd(road, *first),
+                    LaneEnd(target, *second),
+                    tracks.lane_end_point(road, first[2], first[3], end),
+                    tracks.lane_end_point(target, second[2], second[3], target_end),
+                )
+                for first, second in joined.pairs
+            ]
         )
-        yield Joint(link, road, end, target, target_end, judged.fault is None, lanes)
+        yield Joint(
+            link, road, end, target, target_end, fault is None, lanes, joined.joins_all
+        )
 
 
 def rail_lanes_at(road: Road, end: str) -> list[LaneEnd]:
@@ -338,8 +356,14 @@ def _links_at(lane: Lane, end: str) -> tuple[LaneLink, ...]:
 
 #: A lane of a lane layout's section: the section's index, the lane's, both as read.
 _LanePosition = tuple[int, int, LaneSection, Lane]
-#: The joined lanes of two lane layouts' ends, as positions in each.
-_LanePairs = tuple[tuple[_LanePosition, _LanePosition], ...]
+
+
+class _LanePairs(NamedTuple):
+    """The joined lanes of two lane layouts' ends, as positions in each."""
+
+    pairs: tuple[tuple[_LanePosition, _LanePosition], ...]
+    joins_all: tuple[bool, bool]
+    """See :attr:`Joint.joins_all`."""
 
 
 def _lane_pairs(first: Road, first_end: str, second: Road, second_end: str) -> _LanePairs:
@@ -369,11 +393,10 @@ def _lane_pairs(first: Road, first_end: str, second: Road, second_end: str) -> _
         # the one-lane-each default: joined whatever their lane links say (a link of one
         # into a road lane of the other is TR007's)
         pairs = [(firsts[0].lane.id, seconds[0].lane.id)]
-    return tuple((by_first[a][1:], by_second[b][1:]) for a, b in pairs)
-
-
-def _point(
-    tracks: TrackGeometry, road: Road, position: _LanePosition, end: str
-) -> TrackPoint | None:
-    s = 0.0 if end == "start" else (road.length if road.length is not None else math.nan)
-    return tracks.lane_point(road, position[2], position[3], s)
+    return _LanePairs(
+        tuple((by_first[a][1:], by_second[b][1:]) for a, b in pairs),
+        (
+            by_first.keys() <= {a for a, _ in pairs},
+            by_second.keys() <= {b for _, b in pairs},
+        ),
+    )

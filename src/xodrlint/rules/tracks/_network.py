@@ -15,7 +15,7 @@ class TrackNetwork:
     made once per file through :meth:`~xodrlint.model.RailNetwork.shared`."""
 
     def __init__(self, network: RailNetwork) -> None:
-        self.links: list[TrackLink] = list(judged_links(network))
+        self.links: list[TrackLink] = judged_links(network)
         self.joints: list[Joint] = list(find_joints(network, self.links))
         self.lane_links: list[LaneLinkTarget] = list(lane_link_targets(network, self.links))
 

@@ -20,12 +20,8 @@ class TrackPlanViews(list[tuple[Road, "PlanView"]]):
     def __init__(self, network: RailNetwork) -> None:
         from xodrlint.geometry.tracks import TrackGeometry  # loaded only for a railway
 
-        roads = list(network.rail_roads)
-        if not roads:
-            super().__init__()
-            return
-        tracks = network.shared(TrackGeometry)
-        super().__init__((road, tracks.plan_view(road)) for road in roads)
+        roads = network.rail_roads
+        super().__init__(network.shared(TrackGeometry).plan_views(roads) if roads else ())
 
 
 def track_plan_views(network: RailNetwork) -> list[tuple[Road, PlanView]]:

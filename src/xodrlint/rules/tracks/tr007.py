@@ -101,13 +101,28 @@ def _unjoined_lane_ends(
     lane. A road end in a junction is reached by several connecting roads, each joining
     one of its lanes: the end is judged by all of them together, and not at all when one
     of its links is wrong (TR004 reports it)."""
-    # each road end with its joints, and whether the road is each joint's first
+    # the road ends where a joint leaves a rail lane unjoined: judged by all their joints
+    # together (a railway's every joint joins every rail lane of both ends)
+    open_ends = {
+        (id(road.element), end)
+        for joint in joints
+        for road, end, joins_all in (
+            (joint.first, joint.first_end, joint.joins_all[0]),
+            (joint.second, joint.second_end, joint.joins_all[1]),
+        )
+        if not joins_all
+    }
+    if not open_ends:
+        return
+    # each such end with its joints, and whether the road is each joint's first
     at_end: dict[tuple[int, str], list[tuple[Joint, bool]]] = {}
     for joint in joints:
-        at_end.setdefault((id(joint.first.element), joint.first_end), []).append((joint, True))
-        at_end.setdefault((id(joint.second.element), joint.second_end), []).append((joint, False))
-    # the rail lane ids at each end of each lane layout (a railway has a few layouts)
-    rail_ids: dict[tuple[int, str], frozenset[int | None]] = {}
+        for road_end, is_first in (
+            ((id(joint.first.element), joint.first_end), True),
+            ((id(joint.second.element), joint.second_end), False),
+        ):
+            if road_end in open_ends:
+                at_end.setdefault(road_end, []).append((joint, is_first))
     for road_end, found in at_end.items():
         if road_end in unknown_ends or not all(joint.answered for joint, _ in found):
             continue
@@ -118,12 +133,6 @@ def _unjoined_lane_ends(
             for joint, is_first in found
             for pair in joint.lanes
         }
-        layout = (id(road.lane_template), end)
-        rails = rail_ids.get(layout)
-        if rails is None:
-            rails = rail_ids[layout] = frozenset(lane.lane.id for lane in rail_lanes_at(road, end))
-        if rails <= joined:
-            continue  # every rail lane there joined: nearly every end of a railway
         its_joints = [joint for joint, _ in found]
         for lane_end in rail_lanes_at(road, end):
             key = lane_end.key(end)

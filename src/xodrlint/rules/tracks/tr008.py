@@ -84,12 +84,16 @@ def track_plan_view_discontinuous(network: RailNetwork, settings: Settings) -> I
 
     tolerance, limit = TOLERANCE.number(settings), ANGLE.number(settings)
     for road, view in track_plan_views(network):
+        ends = view.ends  # none where the line cannot be evaluated: TR014 says why
+        if len(ends) < 2:
+            continue  # no boundary between records
         line = view.line
-        if line is None:
-            continue  # TR014 says why
-        records, ends = line.records, view.ends
+        assert line is not None  # a line whose ends are known
+        records = line.records
         for index in range(1, len(records)):
             end, start = ends[index - 1][1], ends[index][0]
+            if start == end:
+                continue  # where a railway's records meet, to the last bit
             gap = math.hypot(start.x - end.x, start.y - end.y)
             apart = gap if gap > tolerance + S_TOLERANCE else None
             angle = turn_beyond(end.hdg, start.hdg, limit)

@@ -67,6 +67,7 @@ from xodrlint.findings import Hit, RuleOption, Severity
 from xodrlint.model import RailNetwork
 from xodrlint.rules import Settings, rule
 from xodrlint.rules._shared import S_TOLERANCE, below, metres, quoted
+from xodrlint.rules.tracks._planview import track_plan_views
 
 if TYPE_CHECKING:
     from xodrlint.geometry.curvature import LaneBend
@@ -93,17 +94,14 @@ MIN_TRAM: Final = RuleOption(
 )
 def track_radius_too_small(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
     from xodrlint.geometry.curvature import LaneCurvature, record_elements
-    from xodrlint.geometry.tracks import TrackGeometry
 
     limits = {"rail": MIN_RAIL.number(settings), "tram": MIN_TRAM.number(settings)}
-    tracks, curvature = network.shared(TrackGeometry), network.shared(LaneCurvature)
+    curvature = network.shared(LaneCurvature)
     tightest_limit = max(limits.values())
-    for road in network.rail_roads:
-        line = tracks.reference_line(road)
-        if line is None:
-            continue
+    tracks = track_plan_views(network)
+    for road, line, bends in curvature.tracks_bending(tracks, tightest_limit):
         tightest: dict[int, LaneBend] = {}  # by the record's index
-        for found in curvature.bends(road, line, tightest_limit):
+        for found in bends:
             limit = limits.get(str(found.lane.type), 0.0)
             if found.bend.radius >= limit - S_TOLERANCE:
                 continue
