@@ -332,9 +332,7 @@ def find_joints(network: RailNetwork, links: Sequence[TrackLink]) -> Iterator[Jo
                 for first, second in joined.pairs
             ]
         )
-        yield Joint(
-            link, road, end, target, target_end, fault is None, lanes, joined.joins_all
-        )
+        yield Joint(link, road, end, target, target_end, fault is None, lanes, joined.joins_all)
 
 
 def rail_lanes_at(road: Road, end: str) -> list[LaneEnd]:
