@@ -370,3 +370,76 @@ def test_layouts_that_vary_take_the_general_path() -> None:
         assert tracks._constant_lateral(road_with(lanes)) is None, lanes  # type: ignore[arg-type]
     steady = section.format(rail=rail.format(w=0, b=0))
     assert tracks._constant_lateral(road_with(steady)) == -0.75  # type: ignore[arg-type]
+
+
+def _end_points_agree(root: object) -> int:
+    """Checks :meth:`TrackGeometry.lane_end_point` against :meth:`lane_point` at both ends
+    of every rail lane of ``root``'s tracks; the number of points compared."""
+    from xodrlint.rules.tracks._joints import rail_lanes_at
+
+    network = build_network(root)  # type: ignore[arg-type]
+    general, shortcut = TrackGeometry(network), TrackGeometry(network)
+    compared = 0
+    for road in network.rail_roads:
+        shortcut.plan_view(road)  # judged first, as the joints find it
+        for end in ("start", "end"):
+            s = 0.0 if end == "start" else (road.length if road.length is not None else math.nan)
+            for lane in rail_lanes_at(road, end):
+                expected = general.lane_point(road, lane.section, lane.lane, s)
+                found = shortcut.lane_end_point(road, lane.section, lane.lane, end)
+                assert found == expected, (road, end, lane.lane.id)
+                compared += 1
+    return compared
+
+
+def test_a_lane_end_point_is_the_lane_point_at_that_end() -> None:
+    compared = 0
+    for path in _rail_case_files():
+        root = load_bytes(path.read_bytes(), path.name).root
+        if root is not None and root.tag == "OpenDRIVE":
+            compared += _end_points_agree(root)
+    assert compared > 100
+
+
+@pytest.mark.parametrize(
+    ("records", "length"),
+    [
+        (
+            '<geometry s="0" x="1" y="2" hdg="0.3" length="40"><spiral curvStart="0" curvEnd="0.02"/></geometry>',
+            "40",
+        ),
+        (
+            '<geometry s="0.0005" x="1" y="2" hdg="0.3" length="40"><arc curvature="0.01"/></geometry>',
+            "40.0009",
+        ),
+        (
+            '<geometry s="0" x="0" y="0" hdg="0" length="10"><line/></geometry>'
+            '<geometry s="0" x="0" y="0" hdg="1" length="10"><line/></geometry>',
+            "10",
+        ),
+        (
+            '<geometry s="0" x="0" y="0" hdg="0" length="10"><line/></geometry>'
+            '<geometry s="10" x="10" y="0" hdg="0" length="10"><arc curvature="-0.05"/></geometry>',
+            "19.5",
+        ),
+        ('<geometry s="-2" x="0" y="0" hdg="0" length="12"><line/></geometry>', "10"),
+        ('<geometry s="0.01" x="0" y="0" hdg="0" length="10"><line/></geometry>', "10.02"),
+    ],
+)
+def test_a_lane_end_point_agrees_where_the_ends_are_not_the_records(
+    records: str, length: str
+) -> None:
+    # a first record off s=0, a length short of or beyond the plan view, two records
+    # at one s: the shortcut gives way to the general path, or gives its very numbers
+    lanes = (
+        '<lanes><laneOffset s="0" a="0.5" b="0" c="0" d="0"/><laneSection s="0"><left>'
+        '<lane id="1" type="rail"><width sOffset="0" a="1.5" b="0" c="0" d="0"/></lane>'
+        '</left><center><lane id="0" type="none"/></center><right>'
+        '<lane id="-1" type="tram"><width sOffset="0" a="1.5" b="0" c="0" d="0"/></lane>'
+        "</right></laneSection></lanes>"
+    )
+    text = (
+        f'<OpenDRIVE><header revMajor="1" revMinor="7"/><road id="1" length="{length}" '
+        f'junction="-1"><planView>{records}</planView>{lanes}</road></OpenDRIVE>'
+    )
+    assert _end_points_agree(load_bytes(text.encode(), "t.xodr").root) == 4

@@ -94,6 +94,20 @@ class JoinedLanes(NamedTuple):
     second: LaneEnd
     first_point: TrackPoint | None
     second_point: TrackPoint | None
+    gap: float | None = None
+    """The distance between the two points, where both are known (TR001, TR002)."""
+
+
+def _joined(
+    first: LaneEnd,
+    second: LaneEnd,
+    first_point: TrackPoint | None,
+    second_point: TrackPoint | None,
+) -> JoinedLanes:
+    gap = None
+    if first_point is not None and second_point is not None:
+        gap = first_point.distance_to(second_point)
+    return JoinedLanes(first, second, first_point, second_point, gap)
 
 
 class Joint(NamedTuple):
@@ -323,7 +337,7 @@ def find_joints(network: RailNetwork, links: Sequence[TrackLink]) -> Iterator[Jo
             joined = layouts[layout] = _lane_pairs(first_layout, end, second_layout, target_end)
         lanes = tuple(
             [
-                JoinedLanes(
+                _joined(
                     LaneEnd(road, *first),
                     LaneEnd(target, *second),
                     tracks.lane_end_point(road, first[2], first[3], end),

@@ -85,22 +85,24 @@ TOLERANCE: Final = RuleOption(
 )
 def track_link_gap(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
     tolerance = TOLERANCE.number(settings)
-    for joint, lanes, distance in joint_gaps(network):
-        if distance > tolerance + S_TOLERANCE:
-            first, second = lanes.first_point, lanes.second_point
-            assert first is not None and second is not None  # a gap is measured between two
-            yield Hit(
-                joint.link.element,
-                f"{joint.describe()}: {lanes.first.describe()} and "
-                f"{lanes.second.describe()} are {beyond(distance, tolerance, 4)} m apart "
-                f"({point(first.x, first.y)} and {point(second.x, second.y)})",
-            )
+    for joint, lanes, distance in joint_gaps(network, tolerance + S_TOLERANCE):
+        first, second = lanes.first_point, lanes.second_point
+        assert first is not None and second is not None  # a gap is measured between two
+        yield Hit(
+            joint.link.element,
+            f"{joint.describe()}: {lanes.first.describe()} and "
+            f"{lanes.second.describe()} are {beyond(distance, tolerance, 4)} m apart "
+            f"({point(first.x, first.y)} and {point(second.x, second.y)})",
+        )
 
 
-def joint_gaps(network: RailNetwork) -> Iterator[tuple[Joint, JoinedLanes, float]]:
-    """Each pair of joined lanes whose two centres can be evaluated, with their distance."""
+def joint_gaps(
+    network: RailNetwork, wider_than: float = -1.0
+) -> Iterator[tuple[Joint, JoinedLanes, float]]:
+    """Each pair of joined lanes whose two centres can be evaluated and are more than
+    ``wider_than`` apart, with their distance."""
     for joint in joints(network):
         for lanes in joint.lanes:
-            first, second = lanes.first_point, lanes.second_point
-            if first is not None and second is not None:
-                yield joint, lanes, first.distance_to(second)
+            gap = lanes.gap
+            if gap is not None and gap > wider_than:
+                yield joint, lanes, gap
