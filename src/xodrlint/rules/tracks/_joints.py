@@ -58,6 +58,10 @@ class TrackLink(NamedTuple):
     """What is wrong, for the message."""
 
 
+#: A lane of a lane layout's section: the section's index, the lane's, both as read.
+_LanePosition = tuple[int, int, LaneSection, Lane]
+
+
 class LaneEnd(NamedTuple):
     """A lane of a road's lane section, read from the road's lane template."""
 
@@ -90,24 +94,24 @@ class JoinedLanes(NamedTuple):
     """Two lanes a joint joins, and their centres at the joined ends (``None`` where the
     plan view or the lane's centre cannot be evaluated)."""
 
-    first: LaneEnd
-    second: LaneEnd
+    first_road: Road
+    first_at: _LanePosition
+    second_road: Road
+    second_at: _LanePosition
     first_point: TrackPoint | None
     second_point: TrackPoint | None
-    gap: float | None = None
+    gap: float | None
     """The distance between the two points, where both are known (TR001, TR002)."""
 
+    # the lanes as :class:`LaneEnd`s made when asked: a railway's joints are judged by
+    # their points, and only a finding names its lanes
+    @property
+    def first(self) -> LaneEnd:
+        return LaneEnd(self.first_road, *self.first_at)
 
-def _joined(
-    first: LaneEnd,
-    second: LaneEnd,
-    first_point: TrackPoint | None,
-    second_point: TrackPoint | None,
-) -> JoinedLanes:
-    gap = None
-    if first_point is not None and second_point is not None:
-        gap = first_point.distance_to(second_point)
-    return JoinedLanes(first, second, first_point, second_point, gap)
+    @property
+    def second(self) -> LaneEnd:
+        return LaneEnd(self.second_road, *self.second_at)
 
 
 class Joint(NamedTuple):
@@ -336,17 +340,27 @@ def find_joints(network: RailNetwork, links: Sequence[TrackLink]) -> Iterator[Jo
         if joined is None:
             joined = layouts[layout] = _lane_pairs(first_layout, end, second_layout, target_end)
         lanes = tuple(
-            [
-                _joined(
-                    LaneEnd(road, *first),
-                    LaneEnd(target, *second),
-                    tracks.lane_end_point(road, first[2], first[3], end),
-                    tracks.lane_end_point(target, second[2], second[3], target_end),
-                )
-                for first, second in joined.pairs
-            ]
+            _joined(tracks, road, first, end, target, second, target_end)
+            for first, second in joined.pairs
         )
         yield Joint(link, road, end, target, target_end, fault is None, lanes, joined.joins_all)
+
+
+def _joined(
+    tracks: TrackGeometry,
+    first: Road,
+    first_at: _LanePosition,
+    first_end: str,
+    second: Road,
+    second_at: _LanePosition,
+    second_end: str,
+) -> JoinedLanes:
+    first_point = tracks.lane_end_point(first, first_at[2], first_at[3], first_end)
+    second_point = tracks.lane_end_point(second, second_at[2], second_at[3], second_end)
+    gap = None
+    if first_point is not None and second_point is not None:
+        gap = first_point.distance_to(second_point)
+    return JoinedLanes(first, first_at, second, second_at, first_point, second_point, gap)
 
 
 def rail_lanes_at(road: Road, end: str) -> list[LaneEnd]:
@@ -366,8 +380,6 @@ def _links_at(lane: Lane, end: str) -> tuple[LaneLink, ...]:
     return lane.predecessors if end == "start" else lane.successors
 
 
-#: A lane of a lane layout's section: the section's index, the lane's, both as read.
-_LanePosition = tuple[int, int, LaneSection, Lane]
 
 
 class _LanePairs(NamedTuple):
