@@ -143,7 +143,7 @@ class LaneCurvature:
             end = span[1] if span is not None else None
         key = (template, end)
         found = self._lanes.get(key)
-        if found is None:
+        if found is None:  # a few a railway: its tracks share lane layouts and lengths
             lanes = list(_stretches_of(template, end))
             reaches = [lane.reach for lane in lanes if lane.reach is not None]
             reach = max(reaches) if lanes and len(reaches) == len(lanes) else None
@@ -186,7 +186,8 @@ def _sharpest(line: ReferenceLine) -> float | None:
         bound = record.max_curvature()
         if bound is None:
             return None
-        sharpest = max(sharpest, bound)
+        if bound > sharpest:  # noqa: PLR1730 (a builtin call per record costs a railway 5 ms)
+            sharpest = bound
     return sharpest
 
 

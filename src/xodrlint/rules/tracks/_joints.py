@@ -380,8 +380,6 @@ def _links_at(lane: Lane, end: str) -> tuple[LaneLink, ...]:
     return lane.predecessors if end == "start" else lane.successors
 
 
-
-
 class _LanePairs(NamedTuple):
     """The joined lanes of two lane layouts' ends, as positions in each."""
 

@@ -85,19 +85,16 @@ def track_plan_view_discontinuous(network: RailNetwork, settings: Settings) -> I
     tolerance, limit = TOLERANCE.number(settings), ANGLE.number(settings)
     for road, view in track_plan_views(network):
         ends = view.ends  # none where the line cannot be evaluated: TR014 says why
-        if len(ends) < 2:
-            continue  # no boundary between records
-        line = view.line
-        assert line is not None  # a line whose ends are known
-        records = line.records
-        for index in range(1, len(records)):
+        for index in range(1, len(ends)):  # none for a single record
             end, start = ends[index - 1][1], ends[index][0]
-            if start == end:
-                continue  # where a railway's records meet, to the last bit
-            gap = math.hypot(start.x - end.x, start.y - end.y)
+            (end_x, end_y, end_hdg), (start_x, start_y, start_hdg) = end, start
+            gap = math.hypot(start_x - end_x, start_y - end_y)
             apart = gap if gap > tolerance + S_TOLERANCE else None
-            angle = turn_beyond(end.hdg, start.hdg, limit)
+            angle = turn_beyond(end_hdg, start_hdg, limit)
             if apart is not None or angle is not None:
+                line = view.line
+                assert line is not None  # a line whose ends are known
+                records = line.records
                 yield Hit(
                     line.elements[index],
                     _message(
