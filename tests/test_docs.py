@@ -87,3 +87,17 @@ def test_the_generated_reference_names_every_field_of_the_model() -> None:
         section = text.split(f"#### `{name}`")[1].split("#### ")[0]
         for field in fields:
             assert f"| `{field}` |" in section, (name, field)
+
+
+def test_the_api_reference_lists_cached_properties_as_attributes() -> None:
+    import ast
+
+    from xodrlint.cli.apidoc import _method
+
+    tree = ast.parse(
+        "@cached_property\ndef rail_roads(self) -> tuple[Road, ...]:\n    '''Roads.'''\n"
+        "def shared(self, kind: type) -> int:\n    '''One.'''\n"
+    )
+    cached, method = (_method(node) for node in tree.body if isinstance(node, ast.FunctionDef))
+    assert (cached.name, cached.type) == ("rail_roads", "tuple[Road, ...]")
+    assert method.name == "shared(kind)"

@@ -249,3 +249,26 @@ def test_ci_runs_the_whole_suite_once() -> None:
     assert whole == [f"{_readme_set_up()[1]} || exit"]
     for line in runs:
         assert line in whole or "tests/" in line or "cd examples/rulepack" in line, line
+
+
+def test_the_lowest_environment_pins_each_direct_floor() -> None:
+    from tests.lowest import constraints, floors
+
+    assert list(
+        floors(
+            [
+                "typer>=0.19,<0.29",
+                "dask[distributed]>=2024.1",
+                "dask[distributed,dataframe]>=2024.7",
+                "xodrlint[test]",
+                "free",
+                "scipy >= 1.11.1 ; python_version < '3.14'",
+            ],
+            "xodrlint",
+        )
+    ) == ["dask==2024.7", "scipy==1.11.1", "typer==0.19"]
+    pinned = dict(line.split("==") for line in constraints(["test"]))
+    # the package's own floors and the test extra's, each once
+    assert {"typer", "lxml", "xmlschema", "pytest", "moto", "click"} <= pinned.keys()
+    assert "ruff" not in pinned  # the dev extra is not asked for
+    assert "python -m tests.lowest test" in (REPO / ".ci" / "run").read_text()

@@ -2,7 +2,8 @@
 every field, property and method of the types it exports, stays while ``API_VERSION``'s
 major number does.
 
-The surface below is the record of rule API 1.1 (1.1 added ``rule(..., since=)``). Removing or renaming anything in it
+The surface below is the record of rule API 1.1 (1.1 added ``rule(..., since=)``, the
+model's junctions and lane links, and ``Road.profiles``; unreleased, so still growing). Removing or renaming anything in it
 breaks packs: raise the major number (and say so in the changelog). Adding something is
 compatible: record it here and raise the minor number, so that a pack using it can
 declare the version it needs.
@@ -50,7 +51,7 @@ RECORDED: dict[str, list[str] | None] = {
     "Road": [
         "element", "has_rail_lane", "id", "lane_offsets", "lane_offsets_complete",
         "lane_sections", "lane_template", "lane_types", "lanes", "length", "links",
-        "section_ranges",
+        "profiles", "section_ranges",
     ],
     "RoadLanes": ["offsets", "offsets_complete", "sections"],
     "RoadLink": ["contact_point", "element", "element_id", "element_type", "kind"],

@@ -119,3 +119,46 @@ def test_a_validation_without_a_verdict_is_an_error(monkeypatch: pytest.MonkeyPa
     with pytest.raises(RuntimeError, match="could not validate"):
         schema.validate(etree.ElementTree(etree.fromstring(b"<a/>")))
     monkeypatch.setattr(library, "xmlSchemaValidateDoc", real)
+
+
+_EXIT_WHILE_VALIDATING = """
+import sys, threading, time
+sys.path.insert(0, sys.argv[2])
+from lxml import etree
+from railway import railway
+from xodrlint.validation import libxml2_direct
+
+schema = libxml2_direct.direct_schema(etree.parse(sys.argv[1]).getroot())
+assert schema is not None
+tree = etree.fromstring("".join(railway(8 * 1024 * 1024, 7)).encode()).getroottree()
+started = threading.Event()
+
+def validate(schema=schema, tree=tree):  # held by the thread, as workers.background does
+    started.set()
+    schema.validate(tree)
+
+threading.Thread(target=validate, daemon=True).start()
+started.wait()
+time.sleep(0.05)
+sys.exit(0)  # while libxml2 still validates with the schema
+"""
+
+
+@needs_shared
+def test_exiting_while_a_validation_runs_does_not_free_its_schema(tmp_path: Path) -> None:
+    # weakref.finalize ran at exit and freed the schema under the daemon validation thread:
+    # SIGSEGV in 7 of 10 runs (issue 29)
+    import subprocess
+
+    script = tmp_path / "exit_while_validating.py"
+    script.write_text(_EXIT_WHILE_VALIDATING, encoding="utf-8")
+    core = SHARED_SCHEMAS / "1.7.0" / "opendrive_17_core.xsd"
+    for _ in range(3):
+        done = subprocess.run(
+            [sys.executable, str(script), str(core), str(REPO / "benchmarks")],
+            capture_output=True,
+            text=True,
+            timeout=120,
+            check=False,
+        )
+        assert done.returncode == 0, (done.returncode, done.stderr[-2000:])

@@ -130,7 +130,11 @@ def _constructor_fields(init: ast.FunctionDef, kind: type) -> Iterator[Member]:
 def _method(function: ast.FunctionDef) -> Member:
     returns = _annotation(function.returns) if function.returns is not None else "None"
     doc = _first_paragraph(ast.get_docstring(function) or "")
-    if any(isinstance(d, ast.Name) and d.id == "property" for d in function.decorator_list):
+    # read as attributes: a property, and a cached one (functools.cached_property)
+    if any(
+        isinstance(d, ast.Name) and d.id in ("property", "cached_property")
+        for d in function.decorator_list
+    ):
         return Member(function.name, returns, doc)
     parameters = ", ".join(argument.arg for argument in function.args.args[1:])
     return Member(f"{function.name}({parameters})", returns, doc)

@@ -270,7 +270,7 @@ class Road:
         links = self._links
         if links is None:
             if self._link_elements is None:
-                self.found_parts(*_link_and_profile_elements(self.element))
+                self._found_parts(*_link_and_profile_elements(self.element))
             assert self._link_elements is not None
             links = self._links = tuple(
                 RoadLink(
@@ -286,11 +286,11 @@ class Road:
     def profiles(self) -> tuple[etree._Element, ...]:
         """The road's ``elevationProfile`` and ``lateralProfile`` elements, in document order."""
         if self._profiles is None:
-            self.found_parts(*_link_and_profile_elements(self.element))
+            self._found_parts(*_link_and_profile_elements(self.element))
         assert self._profiles is not None
         return self._profiles
 
-    def found_parts(
+    def _found_parts(
         self, links: tuple[etree._Element, ...], profiles: tuple[etree._Element, ...]
     ) -> None:
         """The road's ``link`` and its ``elevationProfile`` and ``lateralProfile`` elements,
@@ -603,7 +603,7 @@ def build_network(
                     links += (part,)
                 else:
                     profiles += (part,)
-            road.found_parts(links, profiles)
+            road._found_parts(links, profiles)
         elif tag == "station":
             stations.append(_read_station(child))
         else:
