@@ -162,3 +162,54 @@ def test_exiting_while_a_validation_runs_does_not_free_its_schema(tmp_path: Path
             check=False,
         )
         assert done.returncode == 0, (done.returncode, done.stderr[-2000:])
+
+
+_WITH_ENTITIES = """<?xml version="1.0"?>
+<!DOCTYPE OpenDRIVE [<!ENTITY t "track one">]>
+<OpenDRIVE>
+  <header revMajor="1" revMinor="{minor}"><userData code="a" value="b">&t; and more</userData></header>
+  <road name="a" length="100" id="1" junction="-1">
+    <planView><geometry s="0" x="0" y="0" hdg="0" length="100"><line/></geometry></planView>
+    <lanes><laneSection s="0"><center><lane id="0" type="none" level="false"/></center>
+    <right><lane id="-1" type="rail" level="false"><width sOffset="0" a="1.5" b="0" c="0" d="0"/></lane></right>
+    </laneSection></lanes>
+    <railroad><switch name="W" id="5" position="sideways">&t;<mainTrack id="1" s="5" dir="+"/>
+    <sideTrack id="1" s="0" dir="+"/></switch></railroad>
+  </road>
+  <road name="x" length="oops" id="2" junction="-1">
+    <planView><geometry s="0" x="0" y="0" hdg="0" length="100"><line/></geometry></planView>
+  </road>
+</OpenDRIVE>
+"""
+
+
+@needs_shared
+@pytest.mark.parametrize("minor", [7, 8])
+def test_validation_goes_past_entity_references(
+    tmp_path: Path, minor: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # libxml2 stopped at the first entity reference: one "internal error" and nothing after
+    # it validated (the direct route), or "All checks passed" and exit 3 (lxml's route)
+    path = tmp_path / "entities.xodr"
+    path.write_text(_WITH_ENTITIES.format(minor=minor), encoding="utf-8")
+    direct = _findings(path, direct=True, monkeypatch=monkeypatch)
+    assert direct == _findings(path, direct=False, monkeypatch=monkeypatch)
+    schema = [(line, message) for line, code, message, _ in direct if code == "XS006"]
+    assert [line for line, message in schema if "entity reference '&t;'" in message] == [4, 10]
+    assert any(line == 10 and "'sideways'" in message for line, message in schema)
+    assert any(line == 13 and "'oops'" in message for line, message in schema)  # after both
+    assert not any("internal error" in message for _, message in schema)
+
+
+def test_the_builtin_schema_goes_past_entity_references(tmp_path: Path) -> None:
+    path = tmp_path / "entities.xodr"
+    path.write_text(_WITH_ENTITIES.format(minor=7), encoding="utf-8")
+    report = Linter(default_registry(), LintOptions(select=("XS",))).lint_path(path)
+    assert (
+        not report.internal_errors
+    )  # lxml raised XMLSchemaValidateError: an internal error, exit 3
+    found = [(f.line, f.message) for f in report.findings]
+    assert any(line == 10 and "entity reference '&t;'" in message for line, message in found)
+    assert any(line == 10 and "'sideways'" in message for line, message in found)
+    # the built-in schema validates railroad elements alone: the header's reference is not its
+    assert not any(line == 4 for line, _ in found)

@@ -6,6 +6,7 @@ from :mod:`~xodrlint.validation.messages`.
 
 from __future__ import annotations
 
+import copy as copy_module
 import os
 import re
 import threading
@@ -158,14 +159,90 @@ class Libxml2Validator:
 
     def hits(self, doc: Document) -> Iterator[Hit]:
         assert doc.tree is not None
-        if self._direct is not None:
-            errors = self._direct.validate(doc.tree)
-        else:
-            schema = self.lxml_schema
-            schema.validate(doc.tree)
-            errors = lxml_errors(schema.error_log)
+        references = entity_references(doc.tree)
+        if references:
+            yield from self._hits_past_entities(doc, doc.tree.getroot(), references)
+            return
+        errors = self._validate(doc.tree)
         if errors:
             yield from errors_to_hits(doc, errors, self.catalog, doc.tree.getroot())
+
+    def _validate(self, tree: etree._ElementTree) -> list[SchemaError]:
+        if self._direct is not None:
+            return self._direct.validate(tree)
+        schema = self.lxml_schema
+        schema.validate(tree)
+        return lxml_errors(schema.error_log)
+
+    def _hits_past_entities(
+        self, doc: Document, root: etree._Element, references: list[etree._Entity]
+    ) -> Iterator[Hit]:
+        """libxml2's schema validation stops at the first entity reference it meets (an
+        internal error, and nothing after it checked); xodrlint expands no entity. So a
+        copy without the references is validated, its findings put on the document's own
+        elements, and each reference is a finding of its own: what it stands for is the
+        one thing not validated."""
+        copy, originals = _without_entity_references(root)
+        errors = self._validate(etree.ElementTree(copy))
+        yield from _on_originals(errors_to_hits(doc, errors, self.catalog, copy), originals, root)
+        yield from _reference_hits(references)
+
+
+def _without_entity_references(
+    element: etree._Element,
+) -> tuple[etree._Element, dict[etree._Element, etree._Element]]:
+    """A copy of ``element`` without its entity references, and the original of each
+    node of the copy."""
+    copy = copy_module.deepcopy(element)
+    originals = dict(zip(copy.iter(), element.iter(), strict=True))
+    for reference in list(copy.iter(etree.Entity)):
+        _remove_keeping_tail(reference)
+    return copy, originals
+
+
+def _on_originals(
+    hits: Iterable[Hit], originals: dict[etree._Element, etree._Element], fallback: etree._Element
+) -> Iterator[Hit]:
+    """``hits`` about a copy, put on the elements it was copied from."""
+    for hit in hits:
+        element = originals.get(hit.element) if hit.element is not None else None
+        related = tuple(originals[other] for other in hit.related if other in originals)
+        yield hit._replace(element=fallback if element is None else element, related=related)
+
+
+def _reference_hits(references: Iterable[etree._Entity]) -> Iterator[Hit]:
+    for reference in references:
+        parent = reference.getparent()
+        assert parent is not None  # a reference stands in an element's content
+        yield Hit(
+            parent,
+            f"'{parent.tag}' holds the entity reference '&{reference.name};': xodrlint expands "
+            "no entity, so what it stands for is not validated against the schema (the rest "
+            "of the document is)",
+        )
+
+
+def entity_references(tree: etree._ElementTree) -> list[etree._Entity]:
+    """The entity references the parser kept in ``tree`` (it expands none): only a
+    document with a DOCTYPE can hold one, so a map without costs no walk."""
+    if not tree.docinfo.doctype:  # type: ignore[attr-defined]  # (lxml-stubs lack it)
+        return []
+    root = tree.getroot()
+    return list(root.iter(etree.Entity)) if root is not None else []
+
+
+def _remove_keeping_tail(node: etree._Entity) -> None:
+    """Takes ``node`` out of its parent; the text after it stays where it was."""
+    parent = node.getparent()
+    if parent is None:
+        return
+    tail = node.tail or ""
+    previous = node.getprevious()
+    if previous is not None:
+        previous.tail = (previous.tail or "") + tail
+    else:
+        parent.text = (parent.text or "") + tail
+    parent.remove(node)
 
 
 def _compile(document: etree._ElementTree, entry: Path) -> etree.XMLSchema:
@@ -216,8 +293,18 @@ class BuiltinRailroadValidator:
                 )
             return
         schema = self._inner.lxml_schema
+        assert doc.tree is not None
+        with_references = bool(entity_references(doc.tree))
         for subtree in subtrees:
-            if not schema.validate(subtree):
+            references = list(subtree.iter(etree.Entity)) if with_references else []
+            if references:  # see Libxml2Validator._hits_past_entities
+                copy, originals = _without_entity_references(subtree)
+                if not schema.validate(copy):
+                    errors = lxml_errors(schema.error_log)
+                    hits = errors_to_hits(doc, errors, self._inner.catalog, copy)
+                    yield from _on_originals(hits, originals, subtree)
+                yield from _reference_hits(references)
+            elif not schema.validate(subtree):
                 errors = lxml_errors(schema.error_log)
                 yield from errors_to_hits(doc, errors, self._inner.catalog, subtree)
         if self._checks_ids:

@@ -13,6 +13,10 @@ OpenDRIVE 1.5 on it also keys the ids of roads and of junctions, as the official
 do (1.4's keys none), so a repeated road id is found with either. A repeated key is
 reported on the later element, naming the line of the first.
 
+xodrlint expands no entity (nor loads any). An entity reference in an element's content
+(`&name;`, declared in the file's DOCTYPE) is a finding of its own on that element: what
+it stands for is not validated; everything around it is.
+
 ## Why is this bad?
 The schema is the normative form of the standard's tables: a value it refuses is one
 that readers of the declared version are entitled to reject or misread.
