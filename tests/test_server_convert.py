@@ -46,3 +46,48 @@ def test_only_builtin_rules_link_a_page() -> None:
         "https://github.com/xodrlint/xodrlint/blob/main/docs/rules/PT003.md"
     )
     assert help_uri(registry, "ZZ999") is None
+
+
+def _example() -> str:
+    from .conftest import REPO
+
+    return (REPO / "examples" / "broken.xodr").read_text(encoding="utf-8")
+
+
+def _ranges(text: str) -> list[tuple[str, int, int, int, int]]:
+    from xodrlint.api import lint_bytes
+    from xodrlint.server.convert import diagnostics, document_bytes
+
+    report = lint_bytes(document_bytes(text), "broken.xodr")
+    found = diagnostics(
+        report, "file:///broken.xodr", text, types.PositionEncodingKind.Utf16, default_registry()
+    )
+    return [
+        (
+            str(d.code),
+            d.range.start.line,
+            d.range.start.character,
+            d.range.end.line,
+            d.range.end.character,
+        )
+        for d in found
+    ]
+
+
+def test_a_buffer_declaring_utf_16_gets_the_diagnostics_of_its_file() -> None:
+    # the buffer was encoded as UTF-8 whatever it declared: one XS001 ("blank needed here")
+    text = _example()
+    declared = text.replace('encoding="UTF-8"', 'encoding="UTF-16"', 1)
+    assert declared != text
+    expected = _ranges(text)
+    assert len(expected) >= 5
+    assert _ranges(declared) == expected
+    assert _ranges(declared.replace('"UTF-16"', '"ISO-8859-1"', 1)) == expected
+
+
+def test_a_buffer_of_lone_carriage_returns_gets_each_diagnostic_on_its_line() -> None:
+    # lines were counted on "\n" only: every finding on line 1, thousands of columns in
+    text = _example()
+    expected = _ranges(text)
+    assert _ranges(text.replace("\n", "\r")) == expected
+    assert _ranges(text.replace("\n", "\r\n")) == expected

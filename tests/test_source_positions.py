@@ -222,6 +222,7 @@ _PIECES = st.sampled_from(
         "text",
         "newline",
         "crlf",
+        "lone cr",
         "awkward attribute",
     ]
 )
@@ -244,6 +245,7 @@ def _piece(kind: str, number: int, text: str) -> str:
         "text": text,
         "newline": "\n",
         "crlf": "\r\n",
+        "lone cr": "\r",
         "awkward attribute": f'<road k="{number}" a="&lt;road k=&quot;d{number}&quot; >"/>',
     }[kind]
 
@@ -266,4 +268,13 @@ def test_every_position_is_exact_whatever_the_markup_around_it(
         return  # a character the encoding has not got: nothing to read back
     doc = load_bytes(encoded, f"{codec}.xodr")
     assert doc.problems == {}
-    _assert_exact(doc, text.replace("\r\n", "\n"))
+    _assert_exact(doc, text.replace("\r\n", "\n").replace("\r", "\n"))
+
+
+def test_a_lone_carriage_return_ends_a_line_as_editors_count_it() -> None:
+    # a file of old Mac line ends was one line of libxml2's: every finding on line 1 at a
+    # column in the thousands, and nowhere in an editor (the language server's lines)
+    text = _text('  <road k="1"/>\r  <road\r k="2"/>\r\n  <road k="3"/>\r')
+    doc = load_bytes(text.encode(), "mac.xodr")
+    assert _assert_exact(doc, text.replace("\r\n", "\n").replace("\r", "\n")) == 5
+    assert doc.source_line(4) == '  <road k="1"/>'

@@ -108,7 +108,8 @@ class Document:
             text = self.data.decode(encoding or "utf-8-sig", errors="replace")
         except LookupError:
             text = self.data.decode("utf-8", errors="replace")
-        return text.lstrip("\ufeff").replace("\r\n", "\n").split("\n")
+        # line breaks as the positions count them: "\r\n", "\n" and a lone "\r"
+        return text.lstrip("\ufeff").replace("\r\n", "\n").replace("\r", "\n").split("\n")
 
     def xpath_of(self, element: etree._Element) -> str:
         return self._xpaths.path_of(element)

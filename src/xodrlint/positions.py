@@ -360,16 +360,20 @@ def _continuations(run: bytes) -> int:
 
 
 def _ascii_compatible(data: bytes) -> tuple[bytes, bool]:
-    """``data`` in an encoding where '<' and newline are single bytes, the CR of each CRLF
-    dropped, and whether it had to be re-encoded (from UTF-16 or UTF-32, as UTF-8) to be
+    """``data`` in an encoding where '<' and newline are single bytes, each line break one
+    newline, and whether it had to be re-encoded (from UTF-16 or UTF-32, as UTF-8) to be
     so.
 
-    libxml2 counts "\\r\\n" as one line break and a lone "\\r" as none; the scan does too.
+    A line break is "\\r\\n", "\\n" or a lone "\\r", as XML's end-of-line handling and
+    every editor (and the language server protocol) take it: libxml2 counts no lone "\\r",
+    so a file of old Mac line ends was one line of libxml2's.
     """
     widened = data[:2] in (b"\xff\xfe", b"\xfe\xff") or (len(data) > 1 and b"\x00" in data[:4])
     if widened:
         data = _decode_wide(data).encode("utf-8", "surrogatepass")
-    return (data.replace(b"\r\n", b"\n") if b"\r" in data else data), widened
+    if b"\r" in data:
+        data = data.replace(b"\r\n", b"\n").replace(b"\r", b"\n")
+    return data, widened
 
 
 def _decode_wide(data: bytes) -> str:

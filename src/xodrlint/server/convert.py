@@ -3,6 +3,7 @@ related locations. Pure functions over a snapshot of the text that was linted.""
 
 from __future__ import annotations
 
+import codecs
 import re
 from collections.abc import Sequence
 from typing import Final
@@ -22,13 +23,36 @@ SEVERITY: Final = {
 }
 #: An XML name after ``<``: the range of a diagnostic ends where the start tag's name does.
 _NAME: Final = re.compile(r"[^\s/>]+")
+_LINE_BREAK: Final = re.compile(r"\r\n|\r|\n")
+#: The encoding an XML declaration names (after an optional byte order mark).
+_DECLARED: Final = re.compile(
+    r"\ufeff?<\?xml\s[^>]*?\bencoding\s*=\s*[\"']([A-Za-z][A-Za-z0-9._-]*)[\"']"
+)
+
+
+def document_bytes(text: str) -> bytes:
+    """The bytes of an editor's ``text`` as its file holds them: in the encoding its XML
+    declaration names (a document declaring UTF-16 is UTF-16 on disk, and the parser
+    refuses UTF-8 under that declaration), UTF-8 where it names none, or one the text
+    cannot be written in (the parser then says what it finds wrong)."""
+    declared = _DECLARED.match(text)
+    if declared is not None:
+        try:
+            codec = codecs.lookup(declared.group(1)).name
+            if codec != "utf-8":
+                # a byte order mark the editor kept: the codec writes its own, or none
+                return text.removeprefix("\ufeff").encode(codec)
+        except (LookupError, UnicodeEncodeError):
+            pass
+    return text.encode("utf-8")
 
 
 class Lines:
-    """The lines of the linted text, split once (``\\n``, as the parser counts them)."""
+    """The lines of the linted text, split once at each line break the protocol counts
+    (``\\r\\n``, ``\\n`` or a lone ``\\r``; xodrlint's positions count the same)."""
 
     def __init__(self, text: str) -> None:
-        self._lines = text.split("\n")
+        self._lines = _LINE_BREAK.split(text)
 
     def get(self, line: int) -> str:
         """The 1-based ``line``'s text, empty past the end (a finding of a stale tree)."""

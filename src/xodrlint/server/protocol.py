@@ -17,7 +17,7 @@ from xodrlint import __version__
 from xodrlint.api import XODR_SUFFIX, default_registry
 from xodrlint.findings import FileReport
 from xodrlint.server.actions import code_actions, covers, hover_text
-from xodrlint.server.convert import diagnostics
+from xodrlint.server.convert import diagnostics, document_bytes
 from xodrlint.server.folders import Folders
 
 #: Seconds of quiet after a keystroke before the buffer is linted.
@@ -87,7 +87,7 @@ class XodrServer(LanguageServer):
         if choice.excluded(path):
             report = FileReport(str(path))
         else:
-            data = text.encode("utf-8")
+            data = document_bytes(text)
             report = choice.linter.lint_bytes(data, str(path), choice.external(path))
         found = list(diagnostics(report, uri, text, self.encoding, self.registry))
         return found, choice.problem
