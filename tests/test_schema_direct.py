@@ -194,7 +194,7 @@ def test_validation_goes_past_entity_references(
     path.write_text(_WITH_ENTITIES.format(minor=minor), encoding="utf-8")
     direct = _findings(path, direct=True, monkeypatch=monkeypatch)
     assert direct == _findings(path, direct=False, monkeypatch=monkeypatch)
-    schema = [(line, message) for line, code, message, _ in direct if code == "XS006"]
+    schema = [(line, str(message)) for line, code, message, _ in direct if code == "XS006"]
     assert [line for line, message in schema if "entity reference '&t;'" in message] == [4, 10]
     assert any(line == 10 and "'sideways'" in message for line, message in schema)
     assert any(line == 13 and "'oops'" in message for line, message in schema)  # after both
