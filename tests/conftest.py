@@ -10,6 +10,13 @@ from typing import Any
 
 import pytest
 
+# numpy's OpenBLAS starts a thread per core when it is imported (scipy, dask and pandas
+# import it in this process): xodrlint forks workers and validation children only from
+# a process that runs no thread but its own (Python 3.12 and later warn of deadlocks
+# otherwise), so the tests that need a fork would silently take the other path
+for _pool in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_pool, "1")
+
 #: The plugin that runs xodrlint's own rules as a pack under test (tests/test_rule_cases.py,
 #: tests/test_docs.py), loaded by name as a third-party pack loads it with -p.
 pytest_plugins = ["xodrlint.testing.plugin"]

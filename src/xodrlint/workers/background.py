@@ -23,6 +23,7 @@ import os
 import sys
 import threading
 from collections.abc import Callable
+from pathlib import Path
 from typing import Final, Generic, TypeVar, cast
 
 from lxml import etree
@@ -62,8 +63,22 @@ def can_fork(size: int) -> bool:
         and hasattr(os, "fork")
         and sys.platform.startswith("linux")
         and os.environ.get(ENV, "1") != "0"
-        and threading.active_count() == 1
+        and single_threaded()
     )
+
+
+def single_threaded() -> bool:
+    """Whether this process runs one thread, the caller's: Python's threads and those a
+    C library started on its own (a BLAS pool, a Dask loop's), which
+    ``threading.active_count`` does not see, and which made Python 3.12 and later warn
+    that a fork may deadlock. Linux lists a process's threads in ``/proc/self/task``."""
+    if threading.active_count() != 1:
+        return False
+    try:
+        threads = Path("/proc/self/task").iterdir()
+        return next(threads, None) is not None and next(threads, None) is None
+    except OSError:  # no /proc (another system): Python's own threads are all it knows
+        return True
 
 
 def threads_allowed() -> bool:

@@ -14,7 +14,6 @@ import contextlib
 import gc
 import os
 import sys
-import threading
 import time
 from collections.abc import Callable, Generator, Iterator, Sequence
 from pathlib import Path
@@ -266,7 +265,7 @@ def _can_fork_workers() -> bool:
     # A fork copies only the thread that calls it, with every lock the others hold at
     # that moment: a process running threads (an application calling the API from one)
     # gets fresh workers from the executor instead.
-    return FORK_WORKERS and hasattr(os, "fork") and threading.active_count() == 1
+    return FORK_WORKERS and hasattr(os, "fork") and background.single_threaded()
 
 
 def _stream_executor(
