@@ -135,6 +135,41 @@ def test_no_fork_while_other_threads_run() -> None:
         other.join()
 
 
+@pytest.mark.skipif(not Path("/proc/self/task").is_dir(), reason="needs Linux's /proc")
+def test_no_fork_while_a_thread_python_does_not_list_runs() -> None:
+    # a thread a C library starts (a BLAS pool, pyarrow's allocator) is not one of
+    # threading's, yet a lock it holds stays locked in a child all the same: Python 3.12
+    # and later warn of the deadlock, from the thread count the system keeps
+    import _thread
+    import threading
+    import time
+
+    from xodrlint.workers import batch
+
+    assert background.single_threaded() and batch._can_fork_workers()
+    release, gone = _thread.allocate_lock(), _thread.allocate_lock()
+    release.acquire()
+    gone.acquire()
+
+    def wait() -> None:
+        release.acquire()
+        gone.release()
+
+    _thread.start_new_thread(wait, ())
+    try:
+        assert threading.active_count() == 1  # threading does not see it
+        assert not background.single_threaded()
+        assert not background.can_fork(background.MIN_BYTES)
+        assert not batch._can_fork_workers()
+    finally:
+        release.release()
+        gone.acquire()
+    deadline = time.monotonic() + 10
+    while not background.single_threaded():  # the thread is gone once it has returned
+        assert time.monotonic() < deadline
+        time.sleep(0.01)
+
+
 @pytest.mark.parametrize(
     ("attribute_type", "thread_safe"),
     [("xs:string", True), ("xs:IDREF", False), ("xs:ID", False), ("my:QName", False)],
