@@ -37,6 +37,27 @@ def test_the_direct_route_runs_here() -> None:
     assert libxml2_direct._libxml2() is not None
 
 
+@needs_shared
+def test_a_run_with_the_official_schema_takes_the_direct_route(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # which route a run took: a future lxml whose structures fail the self-check would
+    # validate through lxml again, right but quadratic in the errors, and say nothing
+    if sys.implementation.name != "cpython":
+        pytest.skip("direct validation needs CPython")
+    routes: list[bool] = []
+    real = libxml2.Libxml2Validator._validate
+
+    def recorded(self: libxml2.Libxml2Validator, tree: object) -> object:
+        routes.append(self._direct is not None)
+        return real(self, tree)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(libxml2.Libxml2Validator, "_validate", recorded)
+    linter = Linter(default_registry(), LintOptions(schema=SHARED_SCHEMAS, select=("XS",)))
+    linter.lint_path(REPO / "examples" / "broken.xodr")
+    assert routes == [True]
+
+
 def _cases() -> list[Path]:
     cases = sorted(CORPUS_RAIL.glob("*.xodr")) if CORPUS_RAIL.is_dir() else []
     cases += [LARGE / "CARLA_Town03.xodr", LARGE / "Atlatec_KA-Suedtangente.xodr"]
