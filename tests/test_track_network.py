@@ -325,3 +325,33 @@ def test_links_to_or_from_a_repeated_road_id_are_not_judged() -> None:
     assert _codes(data) == Counter()
     found = Counter(f.code for f in lint_bytes(data, "t.xodr").findings)
     assert found["XS006"] == 1 and not any(code.startswith("TR") for code in found)
+
+
+def test_a_link_written_twice_is_one_joint() -> None:
+    # a road end naming the same road end twice (two link elements, or two successors):
+    # one joint, one finding, whichever road comes first in the document
+    lanes = (
+        '<lanes><laneSection s="0"><center><lane id="0" type="none" level="false"/></center>'
+        '<right><lane id="-1" type="rail" level="false"><width sOffset="0" a="1.5" b="0" '
+        'c="0" d="0"/></lane></right></laneSection></lanes>'
+    )
+    twice = (
+        '<link><successor elementType="road" elementId="2" contactPoint="start"/></link>'
+        '<link><successor elementType="road" elementId="2" contactPoint="start"/></link>'
+    )
+    first = (
+        f'<road name="first" length="100" id="1" junction="-1">{twice}<planView><geometry '
+        f's="0" x="0" y="0" hdg="0" length="100"><line/></geometry></planView>{lanes}</road>'
+    )
+    second = (
+        '<road name="second" length="50" id="2" junction="-1"><link><predecessor '
+        'elementType="road" elementId="1" contactPoint="end"/></link><planView><geometry '
+        f's="0" x="101" y="0" hdg="0.5" length="50"><line/></geometry></planView>{lanes}</road>'
+    )
+    for roads in (first + second, second + first):
+        text = f'<OpenDRIVE><header revMajor="1" revMinor="7"/>{roads}</OpenDRIVE>'
+        report = lint_bytes(text.encode(), "twice.xodr")
+        codes = Counter(finding.code for finding in report.findings)
+        assert codes["TR001"] == 1, report.findings
+        network = build_network(load_bytes(text.encode(), "twice.xodr").root)
+        assert len(joints(network)) == 1

@@ -18,7 +18,7 @@ from typing import Final
 from lxml import etree
 
 from xodrlint.document import Document
-from xodrlint.findings import Hit
+from xodrlint.findings import CHILD_KINDS, Hit
 from xodrlint.positions import TreePositions, parser_line
 from xodrlint.validation.identities import FirstHolders, key_fields, selector_of
 from xodrlint.validation.libxml2_direct import SchemaError, direct_schema
@@ -184,7 +184,8 @@ class Libxml2Validator:
         one thing not validated."""
         copy, originals = _without_entity_references(root)
         errors = self._validate(etree.ElementTree(copy))
-        yield from _on_originals(errors_to_hits(doc, errors, self.catalog, copy), originals, root)
+        hits = errors_to_hits(doc, errors, self.catalog, copy)
+        yield from _on_originals(hits, originals, references)
         yield from _reference_hits(references)
 
 
@@ -201,13 +202,25 @@ def _without_entity_references(
 
 
 def _on_originals(
-    hits: Iterable[Hit], originals: dict[etree._Element, etree._Element], fallback: etree._Element
+    hits: Iterable[Hit],
+    originals: dict[etree._Element, etree._Element],
+    references: Iterable[etree._Entity],
 ) -> Iterator[Hit]:
-    """``hits`` about a copy, put on the elements it was copied from."""
+    """``hits`` about a copy without ``references``, put on the elements it was copied
+    from; but not one about the children of an element that holds a reference (a child
+    missing, or out of place): what the reference stands for may be those very children,
+    and the reference's own finding says it is not validated."""
+    holders = {reference.getparent() for reference in references}
     for hit in hits:
         element = originals.get(hit.element) if hit.element is not None else None
+        if (
+            hit.kind in CHILD_KINDS
+            and element is not None
+            and (element in holders or element.getparent() in holders)
+        ):
+            continue
         related = tuple(originals[other] for other in hit.related if other in originals)
-        yield hit._replace(element=fallback if element is None else element, related=related)
+        yield hit._replace(element=element, related=related)
 
 
 def _reference_hits(references: Iterable[etree._Entity]) -> Iterator[Hit]:
@@ -302,7 +315,7 @@ class BuiltinRailroadValidator:
                 if not schema.validate(copy):
                     errors = lxml_errors(schema.error_log)
                     hits = errors_to_hits(doc, errors, self._inner.catalog, copy)
-                    yield from _on_originals(hits, originals, subtree)
+                    yield from _on_originals(hits, originals, references)
                 yield from _reference_hits(references)
             elif not schema.validate(subtree):
                 errors = lxml_errors(schema.error_log)

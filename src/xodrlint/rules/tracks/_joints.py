@@ -315,7 +315,8 @@ def _connects(junction: Junction, road: Road) -> bool:
 
 def find_joints(network: RailNetwork, links: Sequence[TrackLink]) -> Iterator[Joint]:
     tracks: TrackGeometry | None = None
-    # each joint is named by the links of both its roads: the road ends joined so far
+    # each joint is named by the links of both its roads (or twice by one): the pairs of
+    # road ends joined so far
     seen: set[tuple[int, str, int, str]] = set()
     # the joined lanes of each pair of lane layouts and ends, as (section, lane) positions:
     # a railway joins thousands of tracks of a few layouts
@@ -327,9 +328,12 @@ def find_joints(network: RailNetwork, links: Sequence[TrackLink]) -> Iterator[Jo
         if fault is not None and not reported:
             continue  # the other link of a pair TR004 reports once: neither is judged
         assert target_end is not None
-        if (id(target), target_end, id(road), end) in seen:
+        # either way round: named by the other road's link, or by a second link of this
+        # road's end (a link written twice)
+        ends = (id(road), end, id(target), target_end)
+        if ends in seen or (id(target), target_end, id(road), end) in seen:
             continue
-        seen.add((id(road), end, id(target), target_end))
+        seen.add(ends)
         if tracks is None:
             from xodrlint.geometry.tracks import TrackGeometry  # loaded only for a railway
 
