@@ -278,3 +278,16 @@ def test_a_lone_carriage_return_ends_a_line_as_editors_count_it() -> None:
     doc = load_bytes(text.encode(), "mac.xodr")
     assert _assert_exact(doc, text.replace("\r\n", "\n").replace("\r", "\n")) == 5
     assert doc.source_line(4) == '  <road k="1"/>'
+
+
+@pytest.mark.parametrize("line_end", ["\r", "\r\n", "\n"])
+def test_a_syntax_error_is_where_an_editor_shows_it_whatever_the_line_ends(
+    line_end: str,
+) -> None:
+    # libxml2 counts no lone "\r": its line and column are counted again as the lines are
+    lines = ['<?xml version="1.0"?>', "<OpenDRIVE>", '  <header revMajor="1" revMinor="7"/>']
+    text = line_end.join([*lines, "  <road id=1/>", "</OpenDRIVE>", ""])
+    doc = load_bytes(text.encode(), "broken.xodr")
+    (hit,) = doc.problems["XS001"]
+    assert (hit.line, hit.column) == (4, 12)
+    assert doc.source_line(4) == "  <road id=1/>"

@@ -15,7 +15,7 @@ from lxml import etree
 
 from xodrlint.findings import Hit
 from xodrlint.messages import readable_parser_message
-from xodrlint.positions import SourcePositions
+from xodrlint.positions import SourcePositions, parser_position_by_line_ends
 
 #: ASAM's pre-1.6 namespace; files using it are read as if un-namespaced.
 ASAM_LEGACY_NAMESPACE: Final = "http://code.asam.net/simulation/standard/opendrive_schema"
@@ -140,7 +140,7 @@ def load_bytes(data: bytes, path: str) -> Document:
     try:
         root = etree.fromstring(data, parser)
     except etree.XMLSyntaxError as error:
-        doc.report("XS001", _syntax_error_hit(error, parser.error_log))
+        doc.report("XS001", _syntax_error_hit(data, error, parser.error_log))
         return doc
     except (ValueError, LookupError) as error:
         # lxml raises these for input it cannot even hand to libxml2 (an unknown codec).
@@ -160,7 +160,7 @@ def load_bytes(data: bytes, path: str) -> Document:
     return doc
 
 
-def _syntax_error_hit(error: etree.XMLSyntaxError, log: etree._ListErrorLog) -> Hit:
+def _syntax_error_hit(data: bytes, error: etree.XMLSyntaxError, log: etree._ListErrorLog) -> Hit:
     """The first error of this parse: later ones are usually consequences of it.
 
     The parser's own log is used, not the exception's: lxml's global log also holds
@@ -174,7 +174,8 @@ def _syntax_error_hit(error: etree.XMLSyntaxError, log: etree._ListErrorLog) -> 
         line, column = error.position
         message = error.msg or "not well-formed XML"
     message = _LIBXML2_POSITION_SUFFIX.sub("", message.strip()).rstrip(".")
-    return Hit(None, readable_parser_message(message), line=max(line, 1), column=column or None)
+    line, column = parser_position_by_line_ends(data, max(line, 1), column or None)
+    return Hit(None, readable_parser_message(message), line=line, column=column)
 
 
 _LIBXML2_POSITION_SUFFIX: Final = re.compile(r",\s*line \d+, column \d+$")

@@ -376,6 +376,29 @@ def _ascii_compatible(data: bytes) -> tuple[bytes, bool]:
     return data, widened
 
 
+def parser_position_by_line_ends(
+    data: bytes, line: int, column: int | None
+) -> tuple[int, int | None]:
+    """libxml2's ``line`` and ``column`` of a parse error, counted as the positions count
+    lines (a lone "\\r" ends one; libxml2 counts none): unchanged in a file without one.
+    The column counts characters from the line's start, as libxml2's does."""
+    if b"\r" not in data.replace(b"\r\n", b""):
+        return line, column
+    widened = data[:2] in (b"\xff\xfe", b"\xfe\xff") or (len(data) > 1 and b"\x00" in data[:4])
+    raw = _decode_wide(data) if widened else data.decode("utf-8", "replace")
+    libxml2_lines = raw.replace("\r\n", "\n")  # libxml2's lines: split at "\n" alone
+    start = 0
+    for _ in range(max(line, 1) - 1):
+        found = libxml2_lines.find("\n", start)
+        if found < 0:
+            return line, column  # past the end: leave libxml2's words as they are
+        start = found + 1
+    offset = min(start + max((column or 1) - 1, 0), len(libxml2_lines))
+    ours = libxml2_lines.replace("\r", "\n")  # the same length: offsets hold
+    line_start = ours.rfind("\n", 0, offset) + 1
+    return ours.count("\n", 0, offset) + 1, (offset - line_start + 1 if column else None)
+
+
 def _decode_wide(data: bytes) -> str:
     """UTF-16 or UTF-32 text; without a byte order mark, the zero bytes of '<' tell the
     byte order ("<\\0" little-endian, "\\0<" big-endian), as libxml2 reads it."""
