@@ -126,7 +126,7 @@ class Joint(NamedTuple):
     answered: bool
     """The second road names the first back at that end (else TR004 reports the link)."""
     lanes: tuple[JoinedLanes, ...]
-    joins_all: tuple[bool, bool] = (True, True)
+    joins_all: tuple[bool, bool]
     """Whether ``lanes`` take in every rail and tram lane of the first road's end, and of
     the second's (TR007 judges the ends where one does not)."""
 
