@@ -328,30 +328,25 @@ def test_links_to_or_from_a_repeated_road_id_are_not_judged() -> None:
 
 
 def test_a_link_written_twice_is_one_joint() -> None:
-    # a road end naming the same road end twice (two link elements, or two successors):
-    # one joint, one finding, whichever road comes first in the document
-    lanes = (
-        '<lanes><laneSection s="0"><center><lane id="0" type="none" level="false"/></center>'
-        '<right><lane id="-1" type="rail" level="false"><width sOffset="0" a="1.5" b="0" '
-        'c="0" d="0"/></lane></right></laneSection></lanes>'
+    # a road end naming the same road end twice: one joint, one finding, whichever road
+    # comes first in the document
+    rail = _lane(-1, "rail", 1.5)
+    twice = '<successor elementType="road" elementId="2" contactPoint="start"/>' * 2
+    first = _road(
+        "1",
+        '<geometry s="0" x="0" y="0" hdg="0" length="100"><line/></geometry>',
+        100,
+        links=twice,
+        right=rail,
     )
-    twice = (
-        '<link><successor elementType="road" elementId="2" contactPoint="start"/></link>'
-        '<link><successor elementType="road" elementId="2" contactPoint="start"/></link>'
+    second = _road(
+        "2",
+        '<geometry s="0" x="101" y="0" hdg="0.5" length="50"><line/></geometry>',
+        50,
+        links='<predecessor elementType="road" elementId="1" contactPoint="end"/>',
+        right=rail,
     )
-    first = (
-        f'<road name="first" length="100" id="1" junction="-1">{twice}<planView><geometry '
-        f's="0" x="0" y="0" hdg="0" length="100"><line/></geometry></planView>{lanes}</road>'
-    )
-    second = (
-        '<road name="second" length="50" id="2" junction="-1"><link><predecessor '
-        'elementType="road" elementId="1" contactPoint="end"/></link><planView><geometry '
-        f's="0" x="101" y="0" hdg="0.5" length="50"><line/></geometry></planView>{lanes}</road>'
-    )
-    for roads in (first + second, second + first):
-        text = f'<OpenDRIVE><header revMajor="1" revMinor="7"/>{roads}</OpenDRIVE>'
-        report = lint_bytes(text.encode(), "twice.xodr")
-        codes = Counter(finding.code for finding in report.findings)
-        assert codes["TR001"] == 1, report.findings
-        network = build_network(load_bytes(text.encode(), "twice.xodr").root)
-        assert len(joints(network)) == 1
+    for roads in ((first, second), (second, first)):
+        data = _document(*roads)
+        assert _codes(data)["TR001"] == 1
+        assert len(_joints(data)) == 1
