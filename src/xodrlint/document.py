@@ -15,7 +15,7 @@ from lxml import etree
 
 from xodrlint.findings import Hit
 from xodrlint.messages import readable_parser_message
-from xodrlint.positions import SourcePositions, parser_position_by_line_ends
+from xodrlint.positions import SourcePositions, lines_of, parser_position_by_line_ends
 
 #: ASAM's pre-1.6 namespace; files using it are read as if un-namespaced.
 ASAM_LEGACY_NAMESPACE: Final = "http://code.asam.net/simulation/standard/opendrive_schema"
@@ -108,8 +108,7 @@ class Document:
             text = self.data.decode(encoding or "utf-8-sig", errors="replace")
         except LookupError:
             text = self.data.decode("utf-8", errors="replace")
-        # line breaks as the positions count them: "\r\n", "\n" and a lone "\r"
-        return text.lstrip("\ufeff").replace("\r\n", "\n").replace("\r", "\n").split("\n")
+        return lines_of(text.lstrip("\ufeff"))
 
     def xpath_of(self, element: etree._Element) -> str:
         return self._xpaths.path_of(element)

@@ -368,7 +368,7 @@ def _ascii_compatible(data: bytes) -> tuple[bytes, bool]:
     every editor (and the language server protocol) take it: libxml2 counts no lone "\\r",
     so a file of old Mac line ends was one line of libxml2's.
     """
-    widened = data[:2] in (b"\xff\xfe", b"\xfe\xff") or (len(data) > 1 and b"\x00" in data[:4])
+    widened = _is_wide(data)
     if widened:
         data = _decode_wide(data).encode("utf-8", "surrogatepass")
     if b"\r" in data:
@@ -384,8 +384,7 @@ def parser_position_by_line_ends(
     The column counts characters from the line's start, as libxml2's does."""
     if b"\r" not in data.replace(b"\r\n", b""):
         return line, column
-    widened = data[:2] in (b"\xff\xfe", b"\xfe\xff") or (len(data) > 1 and b"\x00" in data[:4])
-    raw = _decode_wide(data) if widened else data.decode("utf-8", "replace")
+    raw = _decode_wide(data) if _is_wide(data) else data.decode("utf-8", "replace")
     libxml2_lines = raw.replace("\r\n", "\n")  # libxml2's lines: split at "\n" alone
     start = 0
     for _ in range(max(line, 1) - 1):
@@ -397,6 +396,21 @@ def parser_position_by_line_ends(
     ours = libxml2_lines.replace("\r", "\n")  # the same length: offsets hold
     line_start = ours.rfind("\n", 0, offset) + 1
     return ours.count("\n", 0, offset) + 1, (offset - line_start + 1 if column else None)
+
+
+def lines_of(text: str) -> list[str]:
+    """``text``'s lines, split at each line break the positions count: "\\r\\n", "\\n"
+    and a lone "\\r" (``--show-source`` and the language server read them)."""
+    return _LINE_BREAK.split(text)
+
+
+_LINE_BREAK: Final = re.compile(r"\r\n|\r|\n")
+
+
+def _is_wide(data: bytes) -> bool:
+    """Whether ``data`` is UTF-16 or UTF-32: a byte order mark, or the zero bytes of its
+    first characters."""
+    return data[:2] in (b"\xff\xfe", b"\xfe\xff") or (len(data) > 1 and b"\x00" in data[:4])
 
 
 def _decode_wide(data: bytes) -> str:

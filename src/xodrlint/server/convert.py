@@ -11,6 +11,7 @@ from typing import Final
 from lsprotocol import types
 
 from xodrlint.findings import FileReport, Finding, Severity
+from xodrlint.positions import lines_of
 from xodrlint.registry import Registry
 
 SOURCE: Final = "xodrlint"
@@ -23,7 +24,6 @@ SEVERITY: Final = {
 }
 #: An XML name after ``<``: the range of a diagnostic ends where the start tag's name does.
 _NAME: Final = re.compile(r"[^\s/>]+")
-_LINE_BREAK: Final = re.compile(r"\r\n|\r|\n")
 #: The encoding an XML declaration names (after an optional byte order mark).
 _DECLARED: Final = re.compile(
     r"\ufeff?<\?xml\s[^>]*?\bencoding\s*=\s*[\"']([A-Za-z][A-Za-z0-9._-]*)[\"']"
@@ -52,7 +52,7 @@ class Lines:
     (``\\r\\n``, ``\\n`` or a lone ``\\r``; xodrlint's positions count the same)."""
 
     def __init__(self, text: str) -> None:
-        self._lines = _LINE_BREAK.split(text)
+        self._lines = lines_of(text)
 
     def get(self, line: int) -> str:
         """The 1-based ``line``'s text, empty past the end (a finding of a stale tree)."""
