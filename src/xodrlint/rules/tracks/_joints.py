@@ -114,6 +114,17 @@ class JoinedLanes(NamedTuple):
         return LaneEnd(self.second_road, *self.second_at)
 
 
+class JointSide(NamedTuple):
+    """One road end of a joint."""
+
+    road: Road
+    end: str
+    is_first: bool
+    """Whether the road is the joint's first (its lanes are the pairs' ``first``)."""
+    joins_all: bool
+    """Whether the joint joins every rail and tram lane of this end."""
+
+
 class Joint(NamedTuple):
     """Two tracks joined by ``link``: the first leaves at ``first_end``, the second is
     entered at ``second_end`` (``start`` or ``end``)."""
@@ -129,6 +140,13 @@ class Joint(NamedTuple):
     joins_all: tuple[bool, bool]
     """Whether ``lanes`` take in every rail and tram lane of the first road's end, and of
     the second's (TR007 judges the ends where one does not)."""
+
+    def sides(self) -> tuple[JointSide, JointSide]:
+        """The two road ends the joint joins, the first road's first."""
+        return (
+            JointSide(self.first, self.first_end, True, self.joins_all[0]),
+            JointSide(self.second, self.second_end, False, self.joins_all[1]),
+        )
 
     def leaving(self, point: TrackPoint) -> float:
         """The direction of travel leaving the first road through the joint."""

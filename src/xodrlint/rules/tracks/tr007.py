@@ -104,30 +104,24 @@ def _unjoined_lane_ends(
     # the road ends where a joint leaves a rail lane unjoined: judged by all their joints
     # together (a railway's every joint joins every rail lane of both ends)
     open_ends = {
-        (id(road.element), end)
+        (id(side.road.element), side.end)
         for joint in joints
-        for road, end, joins_all in (
-            (joint.first, joint.first_end, joint.joins_all[0]),
-            (joint.second, joint.second_end, joint.joins_all[1]),
-        )
-        if not joins_all
+        for side in joint.sides()
+        if not side.joins_all
     }
     if not open_ends:
         return
     # each such end with its joints, and whether the road is each joint's first
-    at_end: dict[tuple[int, str], list[tuple[Joint, bool]]] = {}
+    at_end: dict[tuple[int, str], tuple[Road, str, list[tuple[Joint, bool]]]] = {}
     for joint in joints:
-        for road_end, is_first in (
-            ((id(joint.first.element), joint.first_end), True),
-            ((id(joint.second.element), joint.second_end), False),
-        ):
+        for side in joint.sides():
+            road_end = (id(side.road.element), side.end)
             if road_end in open_ends:
-                at_end.setdefault(road_end, []).append((joint, is_first))
-    for road_end, found in at_end.items():
+                entry = at_end.setdefault(road_end, (side.road, side.end, []))
+                entry[2].append((joint, side.is_first))
+    for road_end, (road, end, found) in at_end.items():
         if road_end in unknown_ends or not all(joint.answered for joint, _ in found):
             continue
-        some, first = found[0]
-        road, end = (some.first, some.first_end) if first else (some.second, some.second_end)
         joined = {
             (pair.first if is_first else pair.second).lane.id
             for joint, is_first in found

@@ -122,7 +122,7 @@ def joint_steps(
         if joint.first not in elevated and joint.second not in elevated:
             continue  # both ends at elevation 0
         ends = []
-        for road, end in ((joint.first, joint.first_end), (joint.second, joint.second_end)):
+        for road, end, _, _ in joint.sides():
             s = 0.0 if end == "start" else road.length
             elevation = profiles.elevation_at(road, s) if s is not None else None
             if elevation is None:
