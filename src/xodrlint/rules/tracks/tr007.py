@@ -106,6 +106,7 @@ def _unjoined_lane_ends(
     open_ends = {
         (id(side.road.element), side.end)
         for joint in joints
+        if False in joint.joins_all  # nearly never: no sides made for the others
         for side in joint.sides()
         if not side.joins_all
     }
