@@ -5,6 +5,9 @@ TR007)."""
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+
+from xodrlint.findings import Hit
 from xodrlint.model import RailNetwork
 from xodrlint.rules.tracks._joints import Joint, TrackLink, find_joints, judged_links
 from xodrlint.rules.tracks._lane_links import LaneLinkTarget, lane_link_targets
@@ -23,6 +26,15 @@ class TrackNetwork:
 def track_network(network: RailNetwork) -> TrackNetwork:
     """The one :class:`TrackNetwork` of ``network``'s file."""
     return network.shared(TrackNetwork)
+
+
+def link_faults(network: RailNetwork, fault: str) -> Iterator[Hit]:
+    """A finding on each link of a track that is wrong by the rule ``fault`` names and
+    is reported on that link (TR003, TR004, TR005)."""
+    for judged in track_network(network).links:
+        if judged.fault == fault and judged.reported:
+            link = judged.link
+            yield Hit(link.element, f"{link.kind} of road '{judged.road.id}' {judged.why}")
 
 
 def joints(network: RailNetwork) -> list[Joint]:

@@ -43,7 +43,7 @@ from xodrlint.findings import Hit, Severity
 from xodrlint.model import RailNetwork
 from xodrlint.rules import rule
 from xodrlint.rules.tracks._joints import TARGET_MISSING
-from xodrlint.rules.tracks._network import track_network
+from xodrlint.rules.tracks._network import link_faults
 
 
 @rule(
@@ -53,8 +53,4 @@ from xodrlint.rules.tracks._network import track_network
     severity=Severity.ERROR,
 )
 def track_link_target_missing(network: RailNetwork) -> Iterator[Hit]:
-    for judged in track_network(network).links:
-        if judged.fault == TARGET_MISSING:
-            yield Hit(
-                judged.link.element, f"{judged.link.kind} of road '{judged.road.id}' {judged.why}"
-            )
+    yield from link_faults(network, TARGET_MISSING)

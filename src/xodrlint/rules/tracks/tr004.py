@@ -52,7 +52,7 @@ from xodrlint.findings import Hit, Severity
 from xodrlint.model import RailNetwork
 from xodrlint.rules import rule
 from xodrlint.rules.tracks._joints import NOT_ANSWERED
-from xodrlint.rules.tracks._network import track_network
+from xodrlint.rules.tracks._network import link_faults
 
 
 @rule(
@@ -63,9 +63,4 @@ from xodrlint.rules.tracks._network import track_network
     defers_to=("TR003", "TR005"),
 )
 def track_link_not_reciprocal(network: RailNetwork) -> Iterator[Hit]:
-    for judged in track_network(network).links:
-        if judged.fault == NOT_ANSWERED and judged.reported:
-            yield Hit(
-                judged.link.element,
-                f"{judged.link.kind} of road '{judged.road.id}' {judged.why}",
-            )
+    yield from link_faults(network, NOT_ANSWERED)

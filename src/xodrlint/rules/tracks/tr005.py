@@ -44,7 +44,7 @@ from xodrlint.findings import Hit, Severity
 from xodrlint.model import RailNetwork
 from xodrlint.rules import rule
 from xodrlint.rules.tracks._joints import NO_CONTACT_POINT
-from xodrlint.rules.tracks._network import track_network
+from xodrlint.rules.tracks._network import link_faults
 
 
 @rule(
@@ -54,9 +54,4 @@ from xodrlint.rules.tracks._network import track_network
     severity=Severity.ERROR,
 )
 def track_link_without_contact_point(network: RailNetwork) -> Iterator[Hit]:
-    for judged in track_network(network).links:
-        if judged.fault == NO_CONTACT_POINT:
-            yield Hit(
-                judged.link.element,
-                f"{judged.link.kind} of road '{judged.road.id}' {judged.why}",
-            )
+    yield from link_faults(network, NO_CONTACT_POINT)
