@@ -3,10 +3,12 @@ file is refused, not read); a cache file is written whole or not at all."""
 
 from __future__ import annotations
 
+import contextlib
 import os
 import stat
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from pathlib import Path
+from typing import BinaryIO
 
 
 class NotRegularFile(OSError):
@@ -48,18 +50,39 @@ def overwrites(output: Path, inputs: Iterable[Path]) -> bool:
     return False
 
 
-def read_regular_file(path: Path) -> bytes:
-    """The bytes of ``path``; :class:`NotRegularFile` when it is no regular file.
+class FileTooLarge(OSError):
+    """The file holds more bytes than the reader takes."""
 
-    Opened without blocking and checked on the open descriptor: a FIFO opened for
-    reading would wait for a writer, and a file swapped after a check would be read.
-    """
+
+def read_regular_file(path: Path, limit: int | None = None) -> bytes:
+    """The bytes of ``path``; :class:`NotRegularFile` when it is no regular file, and
+    :class:`FileTooLarge` when it holds more than ``limit`` bytes (at most ``limit + 1``
+    are read, whatever the file says its size is)."""
+    with _opened_regular(path) as stream:
+        if limit is None:
+            return stream.read()
+        data = stream.read(limit + 1)
+    if len(data) > limit:
+        raise FileTooLarge(f"is larger than {limit:,} bytes")
+    return data
+
+
+def read_regular_head(path: Path, size: int) -> bytes:
+    """The first ``size`` bytes of ``path`` (:class:`NotRegularFile` as above)."""
+    with _opened_regular(path) as stream:
+        return stream.read(size)
+
+
+@contextlib.contextmanager
+def _opened_regular(path: Path) -> Iterator[BinaryIO]:
+    # opened without blocking and checked on the open descriptor: a FIFO opened for
+    # reading would wait for a writer, and a file swapped after a check would be read
     descriptor = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
     with os.fdopen(descriptor, "rb") as stream:
         kind = special_kind(os.fstat(descriptor).st_mode)
         if kind is not None:
             raise NotRegularFile(f"is {kind}, not a regular file")
-        return stream.read()
+        yield stream
 
 
 def write_atomically(path: Path, data: bytes) -> None:

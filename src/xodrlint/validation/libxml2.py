@@ -24,7 +24,7 @@ from xodrlint.validation.identities import FirstHolders, key_fields, selector_of
 from xodrlint.validation.libxml2_direct import SchemaError, direct_schema
 from xodrlint.validation.messages import Explained, TypeCatalog, explain_libxml2
 from xodrlint.validation.sets import SchemaLoadError, SchemaSet
-from xodrlint.validation.source import XS, read_schema_source
+from xodrlint.validation.source import XS, CopyNames, read_schema_source
 
 #: Railroad content appeared in OpenDRIVE 1.4.
 FIRST_RAILROAD_MINOR: Final = 4
@@ -117,7 +117,8 @@ class Libxml2Validator:
 
     def __init__(self, entry: Path, *, direct: bool = True) -> None:
         """``direct=False`` for a set only ever validated in subtrees (through lxml)."""
-        self._documents = read_schema_source(entry).trees
+        self._source = read_schema_source(entry)
+        self._documents = self._source.trees
         self._documents[0] = without_target_namespace(self._documents[0])
         root = self._documents[0].getroot()
         fix_known_schema_bugs(root)
@@ -130,11 +131,12 @@ class Libxml2Validator:
         # libxml2's own validation where it can run here (see ``libxml2_direct``);
         # lxml's compiles only where it cannot, or for the subtrees of the built-in
         # schema: each compile costs a small map's run 2.5 ms
-        self._direct = direct_schema(root) if direct else None
-        self._lxml: etree.XMLSchema | None = None
-        if self._direct is None:
-            self._lxml = _compile(self._documents[0], entry)
         self._entry = entry
+        self._lxml: etree.XMLSchema | None = None
+        with self._source.compiled_from_copy(self._documents[0]):
+            self._direct = direct_schema(root) if direct else None
+        if self._direct is None:
+            self._lxml = self._compile()
 
     @property
     def catalog(self) -> TypeCatalog:
@@ -154,8 +156,16 @@ class Libxml2Validator:
         """The set compiled by lxml (validates subtrees: the built-in schema)."""
         with self._lock:
             if self._lxml is None:
-                self._lxml = _compile(self._documents[0], self._entry)
+                self._lxml = self._compile()
             return self._lxml
+
+    def _compile(self) -> etree.XMLSchema:
+        with self._source.compiled_from_copy(self._documents[0]) as copies:
+            try:
+                return etree.XMLSchema(self._documents[0])
+            except etree.XMLSchemaParseError as error:
+                where = _where(error, self._entry, copies)
+                raise SchemaLoadError(f"cannot compile schema {self._entry}: {where}") from error
 
     def hits(self, doc: Document) -> Iterator[Hit]:
         assert doc.tree is not None
@@ -258,20 +268,14 @@ def _remove_keeping_tail(node: etree._Entity) -> None:
     parent.remove(node)
 
 
-def _compile(document: etree._ElementTree, entry: Path) -> etree.XMLSchema:
-    try:
-        return etree.XMLSchema(document)
-    except etree.XMLSchemaParseError as error:
-        raise SchemaLoadError(f"cannot compile schema {entry}: {_where(error, entry)}") from error
-
-
-def _where(error: etree.XMLSchemaParseError, entry: Path) -> str:
+def _where(error: etree.XMLSchemaParseError, entry: Path, copies: CopyNames) -> str:
     """The error with the file and line that failed: lxml's message names only the line,
-    and the failing file is often another file of the set than its entry."""
+    and the failing file is often another file of the set than its entry (compiled from
+    its private copy: named as the user's file)."""
     last = error.error_log.last_error if error.error_log else None
     if last is None or not last.filename or last.filename == "<string>":
         return str(error)
-    failed = os.path.realpath(last.filename)
+    failed = os.path.realpath(copies.original(last.filename))
     place = f"line {last.line}" if failed == os.path.realpath(entry) else f"{failed}:{last.line}"
     return f"{place}: {last.message.strip()}"
 

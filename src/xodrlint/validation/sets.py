@@ -18,6 +18,8 @@ from typing import Final, NamedTuple
 
 from platformdirs import user_data_path
 
+from xodrlint.files import read_regular_file, read_regular_head
+
 SCHEMA_PATH_ENV: Final = "XODRLINT_SCHEMA_PATH"
 BUILTIN_DIR: Final = Path(__file__).parent / "builtin"
 
@@ -31,6 +33,21 @@ _SHORT_NAME: Final = re.compile(r"opendrive_(\d)(\d)_core", re.IGNORECASE)
 
 class SchemaLoadError(Exception):
     """A schema file that cannot be read or compiled: a set-up error, not a finding."""
+
+
+#: The largest schema file read (ASAM's largest is under 300 kB): a schema may come
+#: from a folder xodrlint was merely opened in, and ``/dev/zero`` has no end.
+MAX_SCHEMA_FILE_BYTES: Final = 16 * 1024 * 1024
+
+
+def read_schema_file(path: Path) -> bytes:
+    """The bytes of one schema file: a regular file of a bounded size (a FIFO would block
+    the run), else a :class:`SchemaLoadError` naming it."""
+    try:
+        return read_regular_file(path, MAX_SCHEMA_FILE_BYTES)
+    except OSError as error:
+        reason = error.strerror or str(error)
+        raise SchemaLoadError(f"cannot read schema {path}: {reason}") from error
 
 
 class Origin(StrEnum):
@@ -141,8 +158,14 @@ class SchemaFinder(NamedTuple):
             yield from _sets_in(location, origin)
 
 
+def _names_a_file(location: Path) -> bool:
+    """A file, or anything else that is there and no folder (a FIFO named as a schema is
+    refused when read, not passed over for the built-in schema)."""
+    return location.exists() and not location.is_dir()
+
+
 def find_in(location: Path, major: int, minor: int, origin: Origin) -> SchemaSet | None:
-    if location.is_file():
+    if _names_a_file(location):
         return SchemaSet(_real(location), None, origin)
     best: SchemaSet | None = None
     for candidate in _sets_in(location, origin):
@@ -156,7 +179,7 @@ def find_in(location: Path, major: int, minor: int, origin: Origin) -> SchemaSet
 
 
 def _sets_in(location: Path, origin: Origin) -> Iterator[SchemaSet]:
-    if location.is_file():
+    if _names_a_file(location):
         yield SchemaSet(_real(location), None, origin)
         return
     if not location.is_dir():
@@ -177,8 +200,8 @@ def entry_xsd(folder: Path) -> Path | None:
     """The XSD of ``folder`` that declares the ``OpenDRIVE`` element."""
     for candidate in sorted(folder.glob("*.xsd")):
         try:
-            head = candidate.read_bytes()
-        except OSError:
+            head = read_schema_file(candidate)
+        except SchemaLoadError:
             continue
         if _DECLARES_ROOT.search(head):
             return _real(candidate)
@@ -212,8 +235,8 @@ def uses_xsd11(entry: Path) -> bool:
             continue
         seen.add(path)
         try:
-            data = path.read_bytes()
-        except OSError:
+            data = read_schema_file(path)
+        except SchemaLoadError:
             continue
         if _holds_xsd11(data):
             return True
@@ -257,7 +280,7 @@ def version_of_set(entry: Path) -> tuple[int, int, int] | None:
     if named:
         return int(named[1]), int(named[2]), int(named[3] or 0)
     try:
-        head = entry.read_bytes()[:2048]
+        head = read_regular_head(entry, 2048)
     except OSError:  # the compile says so, in one line
         return None
     text = _VERSION_IN_TEXT.search(head)
