@@ -454,3 +454,52 @@ def test_a_schema_a_worker_cannot_see_stops_the_run() -> None:
     plugin = engine.LinterPlugin(LintOptions(schema=Path("/nonexistent/schemas")), ())
     with pytest.raises(RuntimeError, match="the schema /nonexistent/schemas is not there"):
         plugin.setup(None)
+
+
+# -- issue 30, item 1: a local cluster is no open door to the other users of the machine ---
+
+
+def _refused(address: str, security: Any) -> None:
+    """A client of ``address`` with ``security`` is turned away (fast: refused, not timed
+    out); one that got in would run code as this user."""
+    from distributed.comm.core import CommClosedError
+
+    started = time.monotonic()
+    with pytest.raises((CommClosedError, OSError)):
+        intruder = Client(address, security=security, timeout=10, set_as_default=False)
+        intruder.run(os.getpid)  # pragma: no cover  (what the review's script did)
+    assert time.monotonic() - started < 10, "not refused: the attempt timed out"
+
+
+def test_a_local_cluster_refuses_peers_without_the_runs_credentials() -> None:
+    from distributed.security import Security
+
+    with engine.connect(engine.LOCAL, workers=1) as client:
+        scheduler = str(client.scheduler_info()["address"])
+        folders = client.run(lambda dask_worker: dask_worker.local_directory)
+        assert scheduler.startswith("tls://127.0.0.1:")
+        (worker,) = folders
+        for address in (scheduler, worker):
+            _refused(address.replace("tls://", "tcp://"), None)  # no TLS at all
+            _refused(address, Security.temporary())  # TLS, but another authority's
+        # the run's own client is served, and the workers spill into a private folder
+        assert client.run(os.getpid)
+        (folder,) = folders.values()
+        private = Path(folder).parents[1]
+        assert private.name.startswith("xodrlint-dask-")
+        assert private.stat().st_mode & 0o077 == 0 and private.stat().st_uid == os.getuid()
+    assert not private.exists()  # removed with the cluster
+
+
+def test_a_local_cluster_without_cryptography_is_one_line(monkeypatch: pytest.MonkeyPatch) -> None:
+    from distributed.security import Security
+
+    def missing(cls: Any) -> Any:
+        raise ImportError("Using `Security.temporary` requires `cryptography`")
+
+    monkeypatch.setattr(Security, "temporary", classmethod(missing))
+    with (
+        pytest.raises(engine.SchedulerError, match=r"needs the 'cryptography' package"),
+        engine.connect(engine.LOCAL, workers=1),
+    ):
+        pass  # pragma: no cover

@@ -23,6 +23,7 @@ import contextlib
 import logging
 import os
 import signal
+import tempfile
 import threading
 import uuid
 from collections.abc import Generator, Iterator, Sequence
@@ -115,12 +116,13 @@ def connect(
         # are left to multiprocessing's resource tracker, which warns of them. So Ctrl-C
         # waits for the start (seconds), then stops the run as it would have stopped it
         # a moment later, the cluster closed on the way out.
-        with _held_signals() as came:
-            cluster = _local_cluster(workers or default_jobs())
-        with cluster, Client(cluster) as client:
-            if came:
-                signal.raise_signal(came[0])  # its handler, given back, raises here
-            yield client
+        with tempfile.TemporaryDirectory(prefix="xodrlint-dask-") as scratch:
+            with _held_signals() as came:
+                cluster = _local_cluster(workers or default_jobs(), scratch)
+            with cluster, Client(cluster) as client:
+                if came:
+                    signal.raise_signal(came[0])  # its handler, given back, raises here
+                yield client
         return
     if address.startswith("tls://") and not _tls_configured():
         # checked first: a Client that fails on it leaves a traceback from its __del__
@@ -189,17 +191,38 @@ def _tls_configured() -> bool:
     return bool(dask.config.get("distributed.comm.tls.ca-file", None))
 
 
-def _local_cluster(workers: int) -> LocalCluster:
-    # Processes with one thread each: the linter holds the GIL for most of a file. On
-    # the loopback interface and without a dashboard: nothing of it is seen from
-    # outside; the scheduler's HTTP routes (health, metrics), which it serves even then,
-    # take any free port, so that a run beside another cluster does not warn about 8787.
+def _local_cluster(workers: int, scratch: str) -> LocalCluster:
+    """Processes with one thread each (the linter holds the GIL for most of a file), on
+    the loopback interface, without a dashboard; the scheduler's HTTP routes (health,
+    metrics), which it serves even then, take any free port, so that a run beside
+    another cluster does not warn about 8787.
+
+    The loopback interface is no boundary on a machine with other users (a shared CI
+    runner): any local process can connect to a port there, and a Dask client that
+    connects runs code in the scheduler and the workers. So the cluster speaks TLS with
+    credentials made for this run alone (a self-signed authority in memory, never on
+    disk), and requires them of every peer: a client without them is refused. Its
+    workers keep their spill files in ``scratch``, this run's private folder, not in the
+    shared ``/tmp/dask-scratch-space``.
+    """
+    from distributed.security import Security
+
+    try:
+        security = Security.temporary()
+    except ImportError:
+        raise SchedulerError(
+            "--scheduler local needs the 'cryptography' package for the cluster's TLS "
+            "credentials: pip install 'xodrlint[dask]'"
+        ) from None
     try:
         return LocalCluster(
             n_workers=workers,
             threads_per_worker=1,
             processes=True,
             host="127.0.0.1",
+            protocol="tls://",
+            security=security,
+            local_directory=scratch,
             dashboard_address=None,
             scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
             silence_logs=logging.ERROR,
