@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 import textwrap
@@ -307,3 +308,75 @@ def test_an_exclude_pattern_never_backtracks_for_ever(
         timeout=30,
     )
     assert done.stdout.strip() == str(expected)
+
+
+# -- issue 30, item 3: discovery trusts no folder above the repository or the home --------
+
+
+def test_the_search_stops_at_the_repository_root(tmp_path: Path) -> None:
+    (tmp_path / "xodrlint.toml").write_text('select = ["XS"]\n')  # above the checkout
+    checkout = tmp_path / "work" / "repo"
+    (checkout / ".git").mkdir(parents=True)
+    (checkout / "maps").mkdir()
+    assert find_config(checkout / "maps" / "x.xodr") is None
+    (checkout / "xodrlint.toml").write_text('select = ["SW"]\n')
+    found = find_config(checkout / "maps" / "x.xodr")
+    assert found is not None and found.path == checkout / "xodrlint.toml"
+
+
+def test_the_search_stops_at_the_users_home(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    (tmp_path / "xodrlint.toml").write_text('select = ["XS"]\n')  # above the home
+    home = tmp_path / "home" / "me"
+    (home / "maps").mkdir(parents=True)
+    monkeypatch.setenv("HOME", str(home))
+    assert find_config(home / "maps" / "x.xodr") is None
+    (home / "xodrlint.toml").write_text('select = ["SW"]\n')
+    found = find_config(home / "maps" / "x.xodr")
+    assert found is not None and found.path == home / "xodrlint.toml"
+
+
+def test_a_config_every_user_can_write_is_ignored_with_a_warning(tmp_path: Path) -> None:
+    project = _project(tmp_path, "xodrlint.toml", 'select = ["XS"]\n')
+    (project / "xodrlint.toml").chmod(0o666)
+    skipped: list[str] = []
+    assert find_config(project / "maps" / "broken.xodr", skipped) is None
+    assert skipped == [
+        f"ignoring {project / 'xodrlint.toml'}: every user of the machine can write it"
+    ]
+    result = run("check", "-f", "json", project / "maps" / "broken.xodr")
+    assert set(_codes(result)) != {"XS006"}  # the defaults: every rule
+    assert result.stderr.splitlines() == [f"xodrlint: warning: {skipped[0]}"]
+
+
+@pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() != 0, reason="needs root to chown")
+def test_a_config_owned_by_another_user_is_ignored_and_the_search_goes_on(tmp_path: Path) -> None:
+    project = _project(tmp_path, "xodrlint.toml", 'select = ["SW"]\n')
+    planted = project / "maps" / "xodrlint.toml"
+    planted.write_text('select = ["XS"]\n')
+    os.chown(planted, 65534, 65534)  # nobody's
+    skipped: list[str] = []
+    found = find_config(project / "maps" / "broken.xodr", skipped)
+    assert found is not None and found.path == project / "xodrlint.toml"
+    assert skipped == [f"ignoring {planted}: it is owned by another user (uid 65534)"]
+
+
+def test_an_explicit_config_is_the_users_choice(tmp_path: Path) -> None:
+    project = _project(tmp_path, "xodrlint.toml", 'select = ["XS"]\n')
+    (project / "xodrlint.toml").chmod(0o666)
+    result = run("check", "-f", "json", "--config", project / "xodrlint.toml", project / "maps")
+    assert set(_codes(result)) == {"XS006"} and result.stderr == ""
+
+
+def test_the_editor_server_tells_why_it_ignores_a_config(tmp_path: Path) -> None:
+    from xodrlint.server.folders import Folders
+
+    project = _project(tmp_path, "xodrlint.toml", 'select = ["XS"]\n')
+    (project / "xodrlint.toml").chmod(0o666)
+    choice = Folders(default_registry()).linter_for(project / "maps" / "broken.xodr")
+    assert choice.settings.config_file is None
+    assert (
+        choice.problem
+        == f"ignoring {project / 'xodrlint.toml'}: every user of the machine can write it"
+    )

@@ -1,5 +1,6 @@
 """Configuration: ``[tool.xodrlint]`` in ``pyproject.toml``, or ``xodrlint.toml`` /
-``.xodrlint.toml``, found by walking up from the first path; command-line values win.
+``.xodrlint.toml``, found by walking up from the first path (to the repository's root or
+the user's home, and only files this user owns); command-line values win.
 
 Every effective value remembers where it came from, for ``xodrlint config``. An unknown
 key or a value of the wrong type is a :class:`ConfigError` naming the key and the file.
@@ -8,8 +9,10 @@ key or a value of the wrong type is a :class:`ConfigError` naming the key and th
 from __future__ import annotations
 
 import math
+import os
 import re
-from collections.abc import Callable, Iterable, Mapping, Sequence
+import stat
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cache, lru_cache
 from pathlib import Path
@@ -46,18 +49,59 @@ class ConfigFile(NamedTuple):
         return self.path.parent
 
 
-def find_config(start: Path) -> ConfigFile | None:
-    """The configuration that governs ``start``: the nearest one in it or above it."""
+def find_config(start: Path, skipped: list[str] | None = None) -> ConfigFile | None:
+    """The configuration that governs ``start``: the nearest one in it or above it, up
+    to the repository's root or the user's home (:func:`config_folders`). A file that
+    another user could have written is passed over (:func:`distrust`), and why is
+    added to ``skipped``: a folder above a checkout (``/tmp``, a shared runner's work
+    folder) may hold a file planted by anyone, which would name the schema, the rule
+    options and the time limits of this user's run."""
+    for folder in config_folders(start):
+        for name in CONFIG_NAMES:
+            path = folder / name
+            if path.is_file():
+                found = read_config(path, required=name != "pyproject.toml")
+                if found is None:
+                    continue
+                reason = distrust(path)
+                if reason is None:
+                    return found
+                if skipped is not None:
+                    skipped.append(f"ignoring {path}: {reason}")
+    return None
+
+
+def config_folders(start: Path) -> Iterator[Path]:
+    """The folders whose configuration files may govern ``start``: its own, then each
+    above it, up to and including the first that is a repository's root (holds
+    ``.git``) or the user's home; past neither, up to the file system's root."""
     folder = start.resolve()
     if not folder.is_dir():
         folder = folder.parent
+    try:
+        home: Path | None = Path.home().resolve()
+    except (RuntimeError, KeyError, OSError):  # no home known for this user
+        home = None
     for candidate in (folder, *folder.parents):
-        for name in CONFIG_NAMES:
-            path = candidate / name
-            if path.is_file():
-                found = read_config(path, required=name != "pyproject.toml")
-                if found is not None:
-                    return found
+        yield candidate
+        if candidate == home or (candidate / ".git").exists():
+            return
+
+
+def distrust(path: Path) -> str | None:
+    """Why ``path`` may not be this user's own (git's ``safe.directory`` idea): owned by
+    another user than the one running xodrlint (or root), or writable by every user;
+    ``None`` for a file only this user (or root) can have written."""
+    if not hasattr(os, "geteuid"):
+        return None  # no owners to compare (Windows): as git there, trusted
+    try:
+        status = path.stat()
+    except OSError as error:
+        return f"cannot be read: {error.strerror or error}"
+    if status.st_uid not in (os.geteuid(), 0):
+        return f"it is owned by another user (uid {status.st_uid})"
+    if status.st_mode & stat.S_IWOTH:
+        return "every user of the machine can write it"
     return None
 
 

@@ -138,7 +138,10 @@ def resolve_settings(
         found = read_config(config)
     else:
         first = next((p for p in paths if p != STDIN), ".")
-        found = find_config(Path(first))
+        skipped: list[str] = []
+        found = find_config(Path(first), skipped)
+        for reason in skipped:
+            error_line(one_line(f"warning: {reason}"))
     return settings_from(
         found,
         overrides or {},

@@ -13,6 +13,7 @@ from xodrlint.config import (
     ConfigFile,
     Settings,
     any_match,
+    config_folders,
     find_config,
     settings_from,
 )
@@ -53,7 +54,7 @@ def _stamp(folder: Path) -> tuple[tuple[str, int], ...]:
     """What decides a folder's configuration: the config files in it and above it, with
     their modification times, so an edit (or a new file) is noticed on the next lint."""
     found = []
-    for candidate in (folder, *folder.parents):
+    for candidate in config_folders(folder):
         for name in CONFIG_NAMES:
             try:
                 found.append((str(candidate / name), (candidate / name).stat().st_mtime_ns))
@@ -84,8 +85,10 @@ class Folders:
         self._chosen.clear()
 
     def _choose(self, folder: Path) -> Choice:
+        skipped: list[str] = []
         try:
-            return Choice(*self._linter(find_config(folder)))
+            found = find_config(folder, skipped)
+            return Choice(*self._linter(found), "; ".join(skipped) or None)
         except (ConfigError, SelectorError, ValueError) as error:
             # the defaults, and the reason, rather than no diagnostics at all
             return Choice(*self._linter(None), str(error))
