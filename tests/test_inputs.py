@@ -74,10 +74,36 @@ def test_special_files_met_in_a_folder_walk_are_skipped_with_a_note(tmp_path: Pa
     assert done.returncode == 0, done.stderr
     assert done.stderr.splitlines() == [
         f"xodrlint: note: {maps.as_posix()}/b-pipe.xodr: skipped, a FIFO is not a regular file",
-        f"xodrlint: note: {maps.as_posix()}/c-zero.xodr: skipped, a character device is not "
-        "a regular file",
+        # a link out of the folder is not followed at all (issue 30, item 8)
+        f"xodrlint: note: skipped a file link leading out of the folder walked "
+        f"({maps.as_posix()}/c-zero.xodr): a walk follows no link out of its folder; name "
+        "the file on the command line to lint it",
     ]
     assert "All checks passed: 1 file, no findings." in done.stdout
+
+
+@pytest.mark.parametrize("how", ["folder", "glob"])
+def test_a_walk_follows_no_file_link_out_of_its_folder(tmp_path: Path, how: str) -> None:
+    # issue 30, item 8: a repository's link to /proc/self/environ printed the run's
+    # environment, secrets included, with --show-source
+    maps = _folder(tmp_path)
+    secret = tmp_path / "secret.xodr"
+    secret.write_text("<OpenDRIVE>TOPSECRET-4711 <unclosed></OpenDRIVE>")
+    (maps / "b-env.xodr").symlink_to("/proc/self/environ")
+    (maps / "c-secret.xodr").symlink_to(secret)
+    (maps / "sub").mkdir()
+    (maps / "sub" / "d-inside.xodr").symlink_to("../a-clean.xodr")  # inside: followed
+    shutil.copyfile(BROKEN, maps / "sub" / "e-broken.xodr")
+    named = [maps] if how == "folder" else [f"{maps}/**/*.xodr"]
+    done = console("check", "--show-source", "-f", "json", *named)
+    assert "TOPSECRET" not in done.stdout + done.stderr and "PATH=" not in done.stdout
+    linted = [entry["path"] for entry in json.loads(done.stdout)["files"]]
+    assert linted == [f"{maps}/a-clean.xodr", f"{maps}/sub/e-broken.xodr"]
+    (note,) = done.stderr.splitlines()  # once for the run
+    assert note.startswith("xodrlint: note: skipped 2 file links leading out of the folder")
+    # named on the command line, a link is still read
+    direct = console("check", "-f", "json", maps / "c-secret.xodr")
+    assert [f["code"] for f in json.loads(direct.stdout)["findings"]] == ["XS001"]
 
 
 def test_symlink_loops_in_a_folder_walk(tmp_path: Path) -> None:

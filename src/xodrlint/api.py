@@ -174,6 +174,7 @@ def collect_inputs(
     seen: set[tuple[int, int]] = set()
     seen_urls: set[str] = set()
     ignore_files = IgnoreFiles() if respect_gitignore else None
+    links_out: list[str] = []  # file links a walk did not follow, said once at the end
     for raw in paths:
         if raw == STDIN:
             yield Input(STDIN, is_stdin=True)
@@ -186,7 +187,7 @@ def collect_inputs(
                     seen_urls.add(item.url)
                 yield item
             continue
-        for item in _expand(raw, max_file_size, ignore_files):
+        for item in _expand(raw, max_file_size, ignore_files, links_out):
             if item.path is not None and exclude is not None and exclude(item.path):
                 continue
             identity = _identity(item)
@@ -195,6 +196,21 @@ def collect_inputs(
                     continue
                 seen.add(identity)
             yield item
+    if links_out:
+        yield _links_out_note(links_out)
+
+
+def _links_out_note(links: list[str]) -> Input:
+    """One note for the file links the walks of a run did not follow."""
+    shown = ", ".join(links[:3]) + (f" and {len(links) - 3} more" if len(links) > 3 else "")
+    what = "a file link" if len(links) == 1 else f"{len(links)} file links"
+    return Input(
+        shown,
+        skipped=printable_path(
+            f"skipped {what} leading out of the folder walked ({shown}): a walk follows no "
+            "link out of its folder; name the file on the command line to lint it"
+        ),
+    )
 
 
 def _identity(item: Input) -> tuple[int, int] | None:
@@ -207,18 +223,21 @@ def _identity(item: Input) -> tuple[int, int] | None:
     return status.st_dev, status.st_ino
 
 
-def _expand(raw: str, max_file_size: int, ignore_files: IgnoreFiles | None) -> Iterator[Input]:
+def _expand(
+    raw: str, max_file_size: int, ignore_files: IgnoreFiles | None, links_out: list[str]
+) -> Iterator[Input]:
     path = Path(raw)
     try:
         status = path.stat()
     except OSError as error:
         if glob.has_magic(raw) and error.errno == errno.ENOENT:
-            yield from _noted(_glob(raw, max_file_size, ignore_files), ignore_files)
+            walked = _glob(raw, max_file_size, ignore_files, links_out)
+            yield from _noted(walked, ignore_files)
         else:
             yield Input(printable_path(raw), error=f"{printable_path(raw)}: {os_reason(error)}")
         return
     if stat.S_ISDIR(status.st_mode):
-        yield from _noted(_walk(path, max_file_size, ignore_files), ignore_files)
+        yield from _noted(_walk(path, max_file_size, ignore_files, links_out), ignore_files)
     else:
         yield _checked(raw, path, status, max_file_size, named=True)
 
@@ -234,7 +253,9 @@ def _noted(walked: Iterator[Input], ignore_files: IgnoreFiles | None) -> Iterato
     yield from found
 
 
-def _glob(pattern: str, max_file_size: int, ignore_files: IgnoreFiles | None) -> Iterator[Input]:
+def _glob(
+    pattern: str, max_file_size: int, ignore_files: IgnoreFiles | None, links_out: list[str]
+) -> Iterator[Input]:
     """The files a glob names, walked from its folder before the first wildcard with
     :func:`os.walk` (folder links not followed: a link loop cannot make it endless) and
     matched in linear time. A folder it names is walked for ``*.xodr``; names starting
@@ -280,8 +301,10 @@ def _glob(pattern: str, max_file_size: int, ignore_files: IgnoreFiles | None) ->
         yield Input(
             pattern, error=f"{pattern}: no file matches" + (IGNORED_HINT if rules.excluded else "")
         )
+    inside = _inside(root)
     for path in sorted(found):
-        yield _found(path, max_file_size)
+        if inside(path, links_out):
+            yield _found(path, max_file_size)
 
 
 def _expand_url(
@@ -341,7 +364,9 @@ def _shown_as_given(path: Path, root: str, fixed: list[str]) -> str:
     return posix[2:] if root == "." and not fixed and posix.startswith("./") else posix
 
 
-def _walk(folder: Path, max_file_size: int, ignore_files: IgnoreFiles | None) -> Iterator[Input]:
+def _walk(
+    folder: Path, max_file_size: int, ignore_files: IgnoreFiles | None, links_out: list[str]
+) -> Iterator[Input]:
     found: list[tuple[Path, Input | None]] = []
 
     def unlistable(error: OSError) -> None:
@@ -360,8 +385,31 @@ def _walk(folder: Path, max_file_size: int, ignore_files: IgnoreFiles | None) ->
             for name in files
             if name.lower().endswith(XODR_SUFFIX) and rules.keeps_file(current, name)
         )
+    inside = _inside(top)
     for path, problem in sorted(found, key=lambda item: item[0]):
-        yield problem or _found(path, max_file_size)
+        if problem is not None:
+            yield problem
+        elif inside(path, links_out):
+            yield _found(path, max_file_size)
+
+
+def _inside(top: str) -> Callable[[Path, list[str]], bool]:
+    """Whether a file a walk of ``top`` met is in it: not a symbolic link to a file
+    elsewhere (``/proc/self/environ``, a secret beside the checkout), which a repository
+    could hold to have its content printed (``--show-source``) or sent on (a report).
+    A link that leaves is added to ``links_out``."""
+    real_top = os.path.realpath(top)
+
+    def inside(path: Path, links_out: list[str]) -> bool:
+        if not path.is_symlink():
+            return True
+        target = os.path.realpath(path)
+        if os.path.commonpath([real_top, target]) == real_top:
+            return True
+        links_out.append(path.as_posix())
+        return False
+
+    return inside
 
 
 def _found(path: Path, max_file_size: int) -> Input:
