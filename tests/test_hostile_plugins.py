@@ -8,6 +8,7 @@ import os
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -15,7 +16,7 @@ from xodrlint.engine import Linter, LintOptions
 from xodrlint.plugins import Plugin, installed
 from xodrlint.registry import ENTRY_POINT_GROUP, load_registry
 
-from .conftest import REPO
+from .conftest import REPO, SHARED_SCHEMAS, needs_shared
 
 CLEAN = REPO / "examples" / "clean.xodr"
 HOSTILE = Plugin("hostile", "tests.hostile_pack.rules", ENTRY_POINT_GROUP)
@@ -61,14 +62,20 @@ def test_a_pack_that_exits_on_import_is_skipped_with_a_warning(
 
 def _installed_hostile_pack(tmp_path: Path) -> dict[str, str]:
     """An environment in which the hostile pack is installed, as pip would leave it."""
+    return _installed(
+        tmp_path,
+        {"hostile": "tests.hostile_pack.rules", "exits": "tests.hostile_pack.exits_on_import"},
+    )
+
+
+def _installed(tmp_path: Path, packs: dict[str, str]) -> dict[str, str]:
+    """An environment in which ``packs`` (entry point names and modules) are installed."""
     site = tmp_path / "site"
     info = site / "hostile_pack-1.0.dist-info"
     info.mkdir(parents=True)
     (info / "METADATA").write_text("Metadata-Version: 2.1\nName: hostile-pack\nVersion: 1.0\n")
-    (info / "entry_points.txt").write_text(
-        f"[{ENTRY_POINT_GROUP}]\nhostile = tests.hostile_pack.rules\n"
-        "exits = tests.hostile_pack.exits_on_import\n"
-    )
+    points = "".join(f"{name} = {module}\n" for name, module in packs.items())
+    (info / "entry_points.txt").write_text(f"[{ENTRY_POINT_GROUP}]\n{points}")
     path = os.pathsep.join([str(site), str(REPO)])
     return {**os.environ, "PYTHONPATH": path, "XODRLINT_CACHE_DIR": str(tmp_path / "cache")}
 
@@ -133,3 +140,60 @@ def test_the_limit_is_per_rule_not_per_file() -> None:
     registry = Registry(rules, ())  # type: ignore[arg-type]
     report = Linter(registry, LintOptions(rule_timeout=0.4)).lint_path(CLEAN)
     assert report.internal_errors == ()
+
+
+# -- issue 30, item 6: a rule that changes the tree does not run beside validation -------
+
+MUTATES = Plugin("mutates", "tests.hostile_pack.mutates", ENTRY_POINT_GROUP)
+
+
+def test_another_packs_rules_run_once_validation_is_done(monkeypatch: pytest.MonkeyPatch) -> None:
+    from tests.hostile_pack import mutates
+    from xodrlint.validation.validators import SchemaValidators
+
+    events = mutates.EVENTS
+    events.clear()
+    started = SchemaValidators.start
+
+    def recorded(self: SchemaValidators, doc: Any) -> Any:
+        pending = started(self, doc)
+        result = pending.result
+
+        def done() -> Any:
+            found = result()
+            events.append("validated")
+            return found
+
+        monkeypatch.setattr(pending, "result", done)
+        return pending
+
+    monkeypatch.setattr(SchemaValidators, "start", recorded)
+    registry = load_registry([*installed(ENTRY_POINT_GROUP), MUTATES])
+    report = Linter(registry, LintOptions()).lint_path(CLEAN)
+    assert events == ["validated", "HM001"]
+    assert not report.internal_errors and not report.findings
+
+
+@needs_shared
+def test_a_rule_that_changes_the_tree_of_a_large_map_changes_nothing_validation_sees(
+    tmp_path: Path,
+) -> None:
+    # the review's crash (exit 139, 3 runs in 5 on 30 MB): libxml2 validating a large
+    # map with the official schema in a thread, the pack's rule setting attributes
+    # meanwhile. Before validation ended, its findings also depended on how far the
+    # rule had got (XS006 on the attributes it had set)
+    railway = _benchmark_railway()
+    big = tmp_path / "rail.xodr"
+    big.write_bytes("".join(railway(12 * 1024 * 1024, 7)).encode())
+    done = subprocess.run(
+        [sys.executable, "-m", "xodrlint", "check", "-q", "--schema", str(SHARED_SCHEMAS), str(big)],
+        env=_installed(tmp_path, {"mutates": "tests.hostile_pack.mutates"}),
+        capture_output=True, text=True, timeout=300, check=False,
+    )  # fmt: skip
+    assert done.returncode == 0, (done.returncode, done.stderr[-2000:])
+
+
+def _benchmark_railway() -> Any:
+    from .test_benchmarks import RAILWAY
+
+    return RAILWAY.railway

@@ -207,7 +207,13 @@ class Linter:
         self._document_rules = [
             r for r in self.rules if r.meta.pack == DOCUMENT_PACK and r.code != UNUSED_SUPPRESSION
         ]
-        self._model_rules = [r for r in self.rules if r.meta.pack != DOCUMENT_PACK]
+        # xodrlint's own rules only read the tree, so they run while the validation
+        # thread reads it too (libxml2, without the GIL); another pack's rule might
+        # change the tree (one that set an attribute on every road while libxml2 walked
+        # them crashed the process), so those run once validation is done
+        model_rules = [r for r in self.rules if r.meta.pack != DOCUMENT_PACK]
+        self._model_rules = [r for r in model_rules if _read_only(r)]
+        self._pack_rules = [r for r in model_rules if not _read_only(r)]
         self._since = {
             r.code: r.meta.since
             for r in self.rules
@@ -316,6 +322,9 @@ class Linter:
         if check is not None:  # its own time, or (a forked child's) until its result
             clock.add("validation", check.seconds or time.perf_counter() - validation_started)
         clock.lap("waiting for validation")
+        if self._pack_rules:
+            self._run(_applied(self._pack_rules, not_applied), network, doc, stamped, crashes)
+            clock.lap("other packs' rules")
         schema_note = None
         if check is not None:
             problems[SCHEMA_RULE] = list(check.hits)
@@ -515,6 +524,12 @@ class _StageClock:
     def stop(self) -> dict[str, float]:
         self._laps["total"] = time.perf_counter() - self._started
         return self._laps
+
+
+def _read_only(rule: Rule) -> bool:
+    """Whether ``rule`` is known to leave the tree as it is: one of xodrlint's own."""
+    origin = rule.meta.origin
+    return origin is not None and origin.builtin
 
 
 def _applied(rules: list[Rule], not_applied: frozenset[str]) -> list[Rule]:
