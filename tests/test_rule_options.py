@@ -196,3 +196,23 @@ def test_rules_json_describes_each_kind(
         "description": "Station names",
     }
     assert entry["options"][2]["unit"] == "m" and entry["options"][2]["minimum"] == 10.0
+
+
+@pytest.mark.parametrize(
+    ("pattern", "expected"),
+    [
+        ("(" * 499 + "a" + ")" * 499, "nested too deeply to compile"),
+        ("a" * 10_000_000, "of at most 1000 characters (this one has 10,000,000)"),
+    ],
+    ids=["nested", "huge"],
+)
+def test_a_hostile_regex_option_is_one_line_and_exit_2(
+    tmp_path: Path, with_pack: Registry, pattern: str, expected: str
+) -> None:
+    # issue 30, item 11: RecursionError (exit 3) and 18 s of compiling before
+    path = _station_map(tmp_path, "Berlin Hbf")
+    (tmp_path / "xodrlint.toml").write_text(f"acme-station-name = '{pattern}'\n")
+    refused = _run("check", "--select", "AC", path)
+    assert refused.exit_code == 2
+    (line,) = refused.stderr.splitlines()
+    assert expected in line and len(line) < 500

@@ -392,6 +392,13 @@ def _get(values: Mapping[str, object], key: str, default: Any) -> Any:
     return values.get(key, default)
 
 
+def shown_value(value: object, limit: int = 80) -> str:
+    """``repr(value)`` for a message, cut to ``limit`` characters: a value in a config
+    file may be megabytes long, and a message is one line."""
+    text = repr(value[: limit + 1] if isinstance(value, str) else value)
+    return text if len(text) <= limit else f"{text[: limit - 3]}..."
+
+
 def _validated(
     config: ConfigFile, options: Mapping[str, RuleOption], codes: set[str]
 ) -> dict[str, object]:
@@ -406,7 +413,8 @@ def _validated(
         try:
             values[key] = reader(raw)
         except TypeError as expected:
-            raise ConfigError(f"{where}: '{key}' must be {expected}, got {raw!r}") from None
+            shown = shown_value(raw)
+            raise ConfigError(f"{where}: '{key}' must be {expected}, got {shown}") from None
     unknown = [code for code in _get(values, "severity", {}) if codes and code not in codes]
     if unknown:
         raise ConfigError(f"{where}: 'severity' names no rule '{unknown[0]}'")

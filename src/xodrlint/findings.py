@@ -164,6 +164,28 @@ class Suppressed(NamedTuple):
 OPTION_KINDS: Final = ("number", "text", "regex")
 
 
+#: The longest regular expression a rule option takes: a house style's pattern is a line;
+#: a config found in a folder may hold anything (a 10 MB one took 18 s to compile).
+MAX_PATTERN_LENGTH: Final = 1000
+
+
+def _check_pattern(value: str) -> None:
+    """A ``TypeError`` saying what is wrong with ``value`` as a regex option's value."""
+    import re
+
+    if len(value) > MAX_PATTERN_LENGTH:
+        raise TypeError(
+            f"a regular expression of at most {MAX_PATTERN_LENGTH} characters "
+            f"(this one has {len(value):,})"
+        )
+    try:
+        re.compile(value)
+    except re.error as error:
+        raise TypeError(f"a regular expression ({error})") from None
+    except (RecursionError, OverflowError, MemoryError):  # nested beyond what re compiles
+        raise TypeError("a regular expression (nested too deeply to compile)") from None
+
+
 class RuleOption(NamedTuple):
     """A value a user may set for a rule (``--rail-min-width``, ``rail-min-width = ...``,
     ``--rule-option NAME=VALUE``).
@@ -220,12 +242,7 @@ class RuleOption(NamedTuple):
         if not isinstance(value, str):
             raise TypeError("a regular expression" if self.kind == "regex" else "a string")
         if self.kind == "regex":
-            import re
-
-            try:
-                re.compile(value)
-            except re.error as error:
-                raise TypeError(f"a regular expression ({error})") from None
+            _check_pattern(value)
         return value
 
     def parsed(self, raw: str) -> "float | str":

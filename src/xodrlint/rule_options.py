@@ -11,6 +11,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
+from xodrlint.config import shown_value
 from xodrlint.findings import RuleOption
 
 if TYPE_CHECKING:
@@ -46,7 +47,8 @@ def resolve_rule_options(
         try:
             resolved[name] = declared[name].checked(value)
         except TypeError as expected:
-            raise OptionError(f"rule option '{name}' must be {expected}, got {value!r}") from None
+            shown = shown_value(value)
+            raise OptionError(f"rule option '{name}' must be {expected}, got {shown}") from None
     return resolved
 
 
