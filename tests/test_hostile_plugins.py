@@ -114,9 +114,23 @@ def test_the_rule_timeout_is_configured_like_any_setting(
     )
     assert done.returncode == code, done.stderr
     if code == 0:
-        assert json.loads(done.stdout)["settings"]["rule-timeout"]["value"] == float(value)
+        # a config found in a folder does not lift the limit (issue 30, item 5): 60 s
+        expected = float(value) if value != "0" else 60.0
+        assert json.loads(done.stdout)["settings"]["rule-timeout"]["value"] == expected
+        assert (value == "0") == ("rule-timeout = 0 (no limit) is taken only" in done.stderr)
     else:
         assert "rule-timeout" in done.stderr and len(done.stderr.splitlines()) == 1
+
+
+def test_a_config_the_user_names_may_lift_the_limit(tmp_path: Path) -> None:
+    config = tmp_path / "mine.toml"
+    config.write_text("rule-timeout = 0\n")
+    done = subprocess.run(
+        [sys.executable, "-m", "xodrlint", "config", "-f", "json", "--config", str(config)],
+        cwd=tmp_path, check=False, capture_output=True, text=True,
+    )  # fmt: skip
+    assert done.returncode == 0 and done.stderr == ""
+    assert json.loads(done.stdout)["settings"]["rule-timeout"]["value"] == 0.0
 
 
 def test_the_limit_is_per_rule_not_per_file() -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Mapping
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, NamedTuple
 
@@ -40,6 +41,7 @@ from xodrlint.cli.stream import (
 )
 from xodrlint.config import (
     COMMAND_LINE,
+    DEFAULT_RULE_TIMEOUT,
     ConfigError,
     Settings,
     find_config,
@@ -142,12 +144,31 @@ def resolve_settings(
         found = find_config(Path(first), skipped)
         for reason in skipped:
             error_line(one_line(f"warning: {reason}"))
-    return settings_from(
+    settings = settings_from(
         found,
         overrides or {},
         rule_options=declared_options(registry),
         known_codes=registry.by_code,
     )
+    if found is not None and config is None:
+        settings = _limited(settings, found.path)
+    return settings
+
+
+def _limited(settings: Settings, found: Path) -> Settings:
+    """``settings`` with the rule time limit on, where a configuration found in a folder
+    turned it off: the limit is what stops a runaway rule (a pattern of that very file),
+    and only the user's own command line (``--rule-timeout 0``, or ``--config``) may lift
+    it."""
+    if settings.rule_timeout > 0 or settings.source_of("rule-timeout") != str(found):
+        return settings
+    error_line(
+        one_line(
+            f"warning: {found}: rule-timeout = 0 (no limit) is taken only from the command "
+            f"line or --config; rules keep their {DEFAULT_RULE_TIMEOUT:g} s limit"
+        )
+    )
+    return replace(settings, rule_timeout=DEFAULT_RULE_TIMEOUT)
 
 
 def _overrides(request: CheckRequest) -> dict[str, object]:

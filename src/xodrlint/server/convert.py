@@ -44,7 +44,9 @@ def document_bytes(text: str) -> bytes:
                 return text.removeprefix("\ufeff").encode(codec)
         except (LookupError, UnicodeEncodeError):
             pass
-    return text.encode("utf-8")
+    # a lone surrogate (an editor may send one) is written as the bytes it stands for:
+    # not UTF-8, so the parser reports it where it stands (XS001) instead of no lint
+    return text.encode("utf-8", "surrogatepass")
 
 
 class Lines:

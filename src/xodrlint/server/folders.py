@@ -4,11 +4,14 @@ command line finds it (the nearest ``xodrlint.toml`` or ``pyproject.toml`` with
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 from typing import NamedTuple
 
 from xodrlint.config import (
     CONFIG_NAMES,
+    DEFAULT,
+    DEFAULT_RULE_TIMEOUT,
     ConfigError,
     ConfigFile,
     Settings,
@@ -64,10 +67,17 @@ def _stamp(folder: Path) -> tuple[tuple[str, int], ...]:
 
 
 class Folders:
-    """One linter per folder, rebuilt when the folder's configuration files change."""
+    """One linter per folder, rebuilt when the folder's configuration files change.
 
-    def __init__(self, registry: Registry) -> None:
+    In a workspace the editor does not trust (``trusted=False``), a configuration file
+    still selects rules and sets severities, but what would let a repository's content
+    run or read on the user's machine is not taken from it: the ``schema`` (a file
+    xodrlint reads and compiles), rule options (values rules run with, patterns among
+    them) and ``rule-timeout`` (how long a rule may run)."""
+
+    def __init__(self, registry: Registry, *, trusted: bool = True) -> None:
         self._registry = registry
+        self._trusted = trusted
         self._chosen: dict[Path, tuple[tuple[tuple[str, int], ...], Choice]] = {}
 
     def linter_for(self, path: Path) -> Choice:
@@ -85,19 +95,51 @@ class Folders:
         self._chosen.clear()
 
     def _choose(self, folder: Path) -> Choice:
-        skipped: list[str] = []
+        problems: list[str] = []
         try:
-            found = find_config(folder, skipped)
-            return Choice(*self._linter(found), "; ".join(skipped) or None)
+            found = find_config(folder, problems)
+            settings = self._settings(found, problems)
+            return Choice(settings, self._linter(settings), "; ".join(problems) or None)
         except (ConfigError, SelectorError, ValueError) as error:
             # the defaults, and the reason, rather than no diagnostics at all
-            return Choice(*self._linter(None), str(error))
+            defaults = self._settings(None, [])
+            return Choice(defaults, self._linter(defaults), str(error))
 
-    def _linter(self, found: ConfigFile | None) -> tuple[Settings, Linter]:
+    def _settings(self, found: ConfigFile | None, problems: list[str]) -> Settings:
         registry = self._registry
         settings = settings_from(
             found, {}, rule_options=declared_options(registry), known_codes=registry.by_code
         )
+        if not self._trusted and found is not None:
+            settings, dropped = _without_workspace_powers(settings)
+            if dropped:
+                problems.append(
+                    f"the workspace is not trusted: {', '.join(dropped)} from {found.path} not used"
+                )
         if settings.schema is not None and not settings.schema.exists():
             raise ConfigError(f"schema {settings.schema}: no such file or folder")
-        return settings, Linter(registry, LintOptions.of(settings))
+        return settings
+
+    def _linter(self, settings: Settings) -> Linter:
+        return Linter(self._registry, LintOptions.of(settings))
+
+
+def _without_workspace_powers(settings: Settings) -> tuple[Settings, list[str]]:
+    """``settings`` without the schema, rule options and rule timeout a file set; the
+    keys dropped."""
+    dropped = [
+        key
+        for key in ("schema", *sorted(settings.rule_options), "rule-timeout")
+        if settings.source_of(key) != DEFAULT
+    ]
+    kept = {key: source for key, source in settings.sources.items() if key not in dropped}
+    return (
+        replace(
+            settings,
+            schema=None,
+            rule_options={},
+            rule_timeout=DEFAULT_RULE_TIMEOUT,
+            sources=kept,
+        ),
+        dropped,
+    )

@@ -1,6 +1,12 @@
 """The language server: pygls over stdio. Lints the editor's buffer (not the file on disk)
-on open, on save and after a pause in typing, in a worker thread so the editor never
-waits; a newer edit supersedes a run, whose result is then dropped."""
+on open, on save and after a pause in typing, in a process of its own that the server can
+stop (:mod:`.worker`), waited for in a thread so the editor never waits; a newer edit
+supersedes a run, whose result is then dropped.
+
+Initialization options (``initializationOptions`` of the client's ``initialize``):
+``trusted`` (default ``true``; ``false`` for a workspace the editor does not trust: its
+configuration's ``schema``, rule options and ``rule-timeout`` are not used) and
+``lintTimeout`` (seconds a lint may take before its process is stopped; default 120)."""
 
 from __future__ import annotations
 
@@ -15,10 +21,10 @@ from pygls.uris import to_fs_path
 
 from xodrlint import __version__
 from xodrlint.api import XODR_SUFFIX, default_registry
-from xodrlint.findings import FileReport
+from xodrlint.registry import Registry
 from xodrlint.server.actions import code_actions, covers, hover_text
-from xodrlint.server.convert import diagnostics, document_bytes
-from xodrlint.server.folders import Folders
+from xodrlint.server.convert import SOURCE, diagnostics, document_bytes
+from xodrlint.server.worker import DEFAULT_DEADLINE, LintWorker, Outcome
 
 #: Seconds of quiet after a keystroke before the buffer is linted.
 DEBOUNCE: Final = 0.3
@@ -28,7 +34,7 @@ class XodrServer(LanguageServer):
     def __init__(self) -> None:
         super().__init__("xodrlint", __version__)
         self.registry = default_registry()
-        self.folders = Folders(self.registry)
+        self.worker = LintWorker()
         # one lint at a time: a newer one queued behind it supersedes it
         self.pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="xodrlint-lint")
         self.latest: dict[str, int] = {}
@@ -58,12 +64,13 @@ class XodrServer(LanguageServer):
         done = await loop.run_in_executor(self.pool, self._diagnose, uri, turn, text)
         if done is None or self.latest.get(uri) != turn:
             return  # an edit came in meanwhile: its own lint publishes
-        found, problem = done
-        if problem and problem not in self.told:  # once: not a message per keystroke
-            self.told.add(problem)
-            self.window_show_message(
-                types.ShowMessageParams(types.MessageType.Warning, f"xodrlint: {problem}")
-            )
+        found, problems = done
+        for problem in problems:
+            if problem not in self.told:  # once: not a message per keystroke
+                self.told.add(problem)
+                self.window_show_message(
+                    types.ShowMessageParams(types.MessageType.Warning, f"xodrlint: {problem}")
+                )
         self.published[uri] = found
         self.text_document_publish_diagnostics(
             types.PublishDiagnosticsParams(uri=uri, diagnostics=found, version=version)
@@ -75,22 +82,17 @@ class XodrServer(LanguageServer):
 
     def _diagnose(
         self, uri: str, turn: int, text: str
-    ) -> tuple[list[types.Diagnostic], str | None] | None:
-        """In the worker thread: lint ``text`` and convert the findings (splitting a large
-        map's lines is work too), unless an edit superseded it while it waited. Also why
-        the folder's configuration could not be used, for the loop to tell the user (only
-        the loop's thread writes to the client)."""
+    ) -> tuple[list[types.Diagnostic], list[str]] | None:
+        """In the pool's thread: lint ``text`` in the worker and convert the findings
+        (splitting a large map's lines is work too), unless an edit superseded it while
+        it waited. Also what the user is to be told (a configuration that could not be
+        used, a lint that failed), for the loop to tell (only its thread writes to the
+        client)."""
         if self.latest.get(uri) != turn:
             return None
         path = Path(to_fs_path(uri) or "untitled.xodr")
-        choice = self.folders.linter_for(path)
-        if choice.excluded(path):
-            report = FileReport(str(path))
-        else:
-            data = document_bytes(text)
-            report = choice.linter.lint_bytes(data, str(path), choice.external(path))
-        found = list(diagnostics(report, uri, text, self.encoding, self.registry))
-        return found, choice.problem
+        outcome = self.worker.lint(path, document_bytes(text))
+        return _converted(outcome, uri, text, self.encoding, self.registry)
 
     def close(self, uri: str) -> None:
         self.latest[uri] = self.latest.get(uri, 0) + 1
@@ -101,12 +103,55 @@ class XodrServer(LanguageServer):
         self.text_document_publish_diagnostics(types.PublishDiagnosticsParams(uri, []))
 
 
+def _converted(
+    outcome: Outcome, uri: str, text: str, encoding: str, registry: Registry
+) -> tuple[list[types.Diagnostic], list[str]]:
+    """The diagnostics of a lint, and what to tell the user about it. What kept findings
+    from being complete (a lint stopped, a rule's internal error, a file that could not
+    be read) is a diagnostic on the first line as well: never a silent gap."""
+    told = [outcome.problem] if outcome.problem else []
+    report = outcome.report
+    gaps = [outcome.failure] if outcome.failure else []
+    found: list[types.Diagnostic] = []
+    if report is not None:
+        found = list(diagnostics(report, uri, text, encoding, registry))
+        gaps += [report.error] if report.error else []
+        gaps += [f"internal error: {crash}" for crash in report.internal_errors]
+    found += [_gap(gap) for gap in gaps]
+    told += [gap for gap in gaps if outcome.failure == gap]
+    return found, told
+
+
+def _gap(message: str) -> types.Diagnostic:
+    return types.Diagnostic(
+        range=types.Range(types.Position(0, 0), types.Position(0, 0)),
+        message=message,
+        severity=types.DiagnosticSeverity.Error,
+        source=SOURCE,
+    )
+
+
+def _option(options: object, name: str, default: object) -> object:
+    """One of the client's initialization options (a JSON object), else ``default``."""
+    return options.get(name, default) if isinstance(options, dict) else default
+
+
 def build() -> XodrServer:
     server = XodrServer()
+
+    @server.feature(types.INITIALIZE)
+    def initialize(ls: XodrServer, params: types.InitializeParams) -> None:
+        options = params.initialization_options
+        trusted = _option(options, "trusted", True)
+        deadline = _option(options, "lintTimeout", DEFAULT_DEADLINE)
+        ls.worker.trusted = trusted is not False
+        if isinstance(deadline, int | float) and not isinstance(deadline, bool) and deadline > 0:
+            ls.worker.deadline = float(deadline)
 
     @server.feature(types.SHUTDOWN)
     def shutdown(ls: XodrServer, params: None) -> None:
         ls.shut_down = True
+        ls.worker.close()
 
     @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
     def did_open(ls: XodrServer, params: types.DidOpenTextDocumentParams) -> None:
@@ -126,7 +171,7 @@ def build() -> XodrServer:
 
     @server.feature(types.WORKSPACE_DID_CHANGE_WATCHED_FILES)
     def watched(ls: XodrServer, params: types.DidChangeWatchedFilesParams) -> None:
-        ls.folders.forget()
+        ls.pool.submit(ls.worker.forget)  # in the pool: after the lint that may be running
         for uri in list(ls.published):
             ls.schedule(uri, 0)
 
@@ -158,5 +203,8 @@ def serve() -> int:
     the LSP asks of ``exit``: 0 where ``shutdown`` came first, else 1. pygls ends its loop
     with that status as a SystemExit, but catches it itself: it is decided again here."""
     server = build()
-    server.start_io()
+    try:
+        server.start_io()
+    finally:
+        server.worker.close()
     return 0 if server.shut_down else 1
