@@ -537,3 +537,28 @@ def test_an_internal_error_is_a_line_of_its_own_and_in_the_json_report() -> None
     document = json.loads(stream.getvalue())
     jsonschema.validate(document, OUTPUT_SCHEMA)
     assert document["files"][0]["internal_errors"] == list(crashed.internal_errors)
+
+
+class _Sneaky(int):
+    """An int whose text is JSON of a plugin's choosing (issue 30, item 12)."""
+
+    def __str__(self) -> str:
+        return '1,"injected":true'
+
+    __repr__ = __format__ = lambda self, *_: str(self)  # type: ignore[assignment]
+
+
+@pytest.mark.parametrize("kind", ["jsonl", "json"])
+def test_numbers_are_written_as_plain_ints_whatever_their_type(kind: str) -> None:
+    from xodrlint.findings import Finding, Location, Severity
+    from xodrlint.formatters.json import _finding as render_finding
+    from xodrlint.formatters.jsonl import line
+
+    finding = Finding(
+        "a.xodr", _Sneaky(3), _Sneaky(5), "HX001", "u", Severity.ERROR, "m", "/x",
+        (Location(_Sneaky(7), "/y"),),
+    )  # fmt: skip
+    text = line(finding) if kind == "jsonl" else render_finding(finding)
+    written = json.loads(text)
+    assert "injected" not in written and written["line"] == 3 and written["column"] == 5
+    assert written["related"] == [{"line": 7, "xpath": "/y"}]

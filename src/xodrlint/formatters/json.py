@@ -100,12 +100,12 @@ def _write_findings(findings: tuple[Finding, ...], stream: TextIO) -> None:
 
 
 def _finding(finding: Finding) -> str:
-    column = "null" if finding.column is None else str(finding.column)
+    column = "null" if finding.column is None else str(int(finding.column))
     if finding.related:
         related = (
             "[\n"
             + ",\n".join(
-                f'        {{\n          "line": {location.line},\n'
+                f'        {{\n          "line": {int(location.line)},\n'
                 f'          "xpath": {_string(location.xpath)}\n        }}'
                 for location in finding.related
             )
@@ -115,7 +115,7 @@ def _finding(finding: Finding) -> str:
         related = "[]"
     return (
         f'    {{\n      "path": {_string(finding.path)},\n'
-        f'      "line": {finding.line},\n'
+        f'      "line": {int(finding.line)},\n'
         f'      "column": {column},\n'
         f'      "code": {_string(finding.code)},\n'
         f'      "uid": {_string(finding.uid)},\n'

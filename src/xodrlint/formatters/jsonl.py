@@ -55,15 +55,18 @@ _BREAK: Final = re.compile("[\x85\u2028\u2029]")
 
 def line(finding: Finding) -> str:
     """``json.dumps(finding.as_dict(), ensure_ascii=False, separators=(",", ":"))`` and a
-    line break, character for character, in a fifth of its time: the parent of a
-    streaming run writes every line while its workers lint, on the same cores."""
-    column = "null" if finding.column is None else str(finding.column)
+    line break, in a fifth of its time (the parent of a streaming run writes every line
+    while its workers lint, on the same cores): character for character, but that
+    U+0085, U+2028 and U+2029 are written as ``\\u`` escapes, which ``json.dumps`` leaves
+    raw and line-splitting readers take for line breaks. Numbers are written as plain
+    ``int``: a subclass's ``__format__`` (a plugin's) could write anything there."""
+    column = "null" if finding.column is None else str(int(finding.column))
     related = ",".join(
-        f'{{"line":{location.line},"xpath":{_string(location.xpath)}}}'
+        f'{{"line":{int(location.line)},"xpath":{_string(location.xpath)}}}'
         for location in finding.related
     )
     text = (
-        f'{{"path":{_string(finding.path)},"line":{finding.line},"column":{column},'
+        f'{{"path":{_string(finding.path)},"line":{int(finding.line)},"column":{column},'
         f'"code":{_string(finding.code)},"uid":{_string(finding.uid)},'
         f'"severity":{_string(str(finding.severity))},"message":{_string(finding.message)},'
         f'"xpath":{_string(finding.xpath)},"related":[{related}]}}'
