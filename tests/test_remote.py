@@ -403,3 +403,62 @@ def test_jsonl_streams_the_findings_of_urls(memory: str) -> None:
     lines = [json.loads(line) for line in result.stdout.splitlines()]
     assert {line["path"] for line in lines} == {f"{memory}/maps/sub/b.xodr"}
     assert [line["code"] for line in lines] == ["PT003", "ST004"]
+
+
+# -- issue 30, item 10: URLs get the checks local paths get -----------------------------
+
+
+@pytest.mark.parametrize("kind", ["device", "fifo"])
+def test_a_file_url_to_a_device_or_fifo_is_refused_unread(tmp_path: Path, kind: str) -> None:
+    import os
+
+    if kind == "fifo":
+        target = tmp_path / "pipe.xodr"
+        os.mkfifo(target)  # reading it would wait for a writer for ever
+        what = "a FIFO"
+    else:
+        target, what = Path("/dev/zero"), "a character device"
+    url = f"file://{target.as_posix()}"
+    result = cli("check", url, code=2)
+    assert result.stderr == f"xodrlint: {url}: is {what}, not a regular file\n"
+
+
+@pytest.mark.loopback  # port 9 of the loopback interface: refused
+def test_credentials_in_a_url_are_in_no_report() -> None:
+    url = "http://someone:s3cret@127.0.0.1:9/maps/a.xodr"
+    for kind in ("text", "json", "sarif", "gitlab", "jsonl", "junit"):
+        result = cli("check", "-f", kind, url, code=2)
+        assert "s3cret" not in result.stdout + result.stderr and "someone" not in result.stdout
+    assert remote.shown_url(url) == "http://127.0.0.1:9/maps/a.xodr"
+    assert remote.shown_url("s3://bucket/a@b.xodr") == "s3://bucket/a@b.xodr"  # a key's @
+
+
+@pytest.mark.loopback
+def test_a_refused_connection_is_said_so() -> None:
+    result = cli("check", "http://127.0.0.1:9/maps/a.xodr", code=2)
+    assert result.stderr.startswith("xodrlint: http://127.0.0.1:9/maps/a.xodr: connection refused")
+
+
+@pytest.mark.parametrize("kind", ["sarif", "gitlab", "jsonl", "text"])
+def test_a_name_that_is_not_utf8_by_url_is_one_error(tmp_path: Path, kind: str) -> None:
+    import os
+
+    (tmp_path / "maps").mkdir()
+    (tmp_path / "maps" / "ok.xodr").write_bytes(CLEAN.read_bytes())
+    (tmp_path / "maps" / os.fsdecode(b"caf\xe9.xodr")).write_bytes(CLEAN.read_bytes())
+    result = cli("check", "-f", kind, f"file://{tmp_path.as_posix()}/maps", code=2)
+    assert "maps/caf\\xe9.xodr: the file name is not valid UTF-8" in result.stderr
+    result.stdout.encode("utf-8")  # carried whole: no lone surrogate, no raw byte
+    if kind == "jsonl":
+        assert all(json.loads(line) for line in result.stdout.splitlines())
+
+
+def test_anchored_excludes_match_file_urls_as_the_files_they_name(
+    local: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(local)
+    (local / "xodrlint.toml").write_text('exclude = ["/maps/tmp/*"]\n')
+    by_path = cli("check", "--show-files", "maps", code=0).stdout
+    by_url = cli("check", "--show-files", f"file://{local.as_posix()}/maps", code=0).stdout
+    assert "d.xodr" not in by_path and "d.xodr" not in by_url
+    assert by_url.count("file://") == len(by_path.splitlines()) == 3

@@ -180,7 +180,8 @@ def collect_inputs(
             yield Input(STDIN, is_stdin=True)
             continue
         if is_url(raw):
-            for item in _expand_url(raw, max_file_size, exclude_url):
+            excluded = _url_excluder(exclude, exclude_url)
+            for item in _expand_url(raw, max_file_size, excluded):
                 if item.error is None and item.url is not None:
                     if item.url in seen_urls:
                         continue
@@ -307,25 +308,42 @@ def _glob(
             yield _found(path, max_file_size)
 
 
-def _expand_url(
-    raw: str, max_file_size: int, exclude: Callable[[str], bool] | None
-) -> Iterator[Input]:
-    """The objects a URL names, listed once here; they are read where they are linted."""
-    from xodrlint.config import glob_matches
-    from xodrlint.remote import RemoteError, list_below, list_url, url_path
+def _url_excluder(
+    exclude: Callable[[Path], bool] | None, exclude_url: Callable[[str], bool] | None
+) -> Callable[[str], bool]:
+    """Whether a URL is excluded: a ``file://`` URL as the local file it names (anchored
+    globs included), any other by its path part (``maps/a.xodr`` of
+    ``s3://bucket/maps/a.xodr``)."""
+    from xodrlint.remote import local_path, url_path
 
+    def excluded(url: str) -> bool:
+        local = local_path(url)
+        if local is not None and exclude is not None:
+            return exclude(Path(local))
+        return exclude_url is not None and exclude_url(url_path(url))
+
+    return excluded
+
+
+def _expand_url(raw: str, max_file_size: int, excluded: Callable[[str], bool]) -> Iterator[Input]:
+    """The objects a URL names, listed once here; they are read where they are linted.
+    Reports show each URL without its credentials (:func:`~xodrlint.remote.shown_url`)."""
+    from xodrlint.config import glob_matches
+    from xodrlint.remote import RemoteError, list_below, list_url, shown_url
+
+    shown = printable_path(shown_url(raw))
     scheme, rest = raw.split("://", 1)
     parts = rest.split("/")
     fixed = next((i for i, part in enumerate(parts) if glob.has_magic(part)), None)
     if fixed == 0:
-        yield Input(raw, error=f"{raw}: the bucket or host of a URL cannot be a glob")
+        yield Input(shown, error=f"{shown}: the bucket or host of a URL cannot be a glob")
         return
     listed_url = raw if fixed is None else f"{scheme}://{'/'.join(parts[:fixed])}"
     try:
         listed = list_url(raw) if fixed is None else list_below(listed_url)
     except RemoteError as error:
         if fixed is None or not error.missing:
-            yield Input(raw, error=f"{raw}: {error}")
+            yield Input(shown, error=f"{shown}: {error}")
             return
         listed = []  # nothing below a glob's folder: as for a local glob, no match
     if fixed is None:
@@ -344,14 +362,18 @@ def _expand_url(
             )
         ]
         if not found:
-            yield Input(raw, error=f"{raw}: no file matches")
+            yield Input(shown, error=f"{shown}: no file matches")
     for item in found:
-        if exclude is not None and exclude(url_path(item.url)):
+        if excluded(item.url):
             continue
-        if item.size is not None and item.size > max_file_size:
-            yield Input(item.url, url=item.url, error=too_large(item.url, max_file_size))
+        display = shown_url(item.url)
+        printable = printable_path(display)
+        if printable != display:  # reports could not carry it (as for a local file)
+            yield Input(printable, error=f"{printable}: the file name is not valid UTF-8")
+        elif item.size is not None and item.size > max_file_size:
+            yield Input(display, url=item.url, error=too_large(display, max_file_size))
         else:
-            yield Input(item.url, url=item.url, size=item.size)
+            yield Input(display, url=item.url, size=item.size)
 
 
 def _is_xodr(name: str) -> bool:

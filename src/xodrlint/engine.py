@@ -21,7 +21,7 @@ from lxml import etree
 
 from xodrlint.config import DEFAULT_MAX_FILE_SIZE, DEFAULT_RULE_TIMEOUT, Settings, too_large
 from xodrlint.document import Document, Version, load_bytes
-from xodrlint.files import NotRegularFile, read_regular_file
+from xodrlint.files import FileTooLarge, NotRegularFile, read_regular_file
 from xodrlint.findings import (
     NO_ENTRIES,
     FileReport,
@@ -245,10 +245,17 @@ class Linter:
     def lint_path(
         self, path: Path, display: str | None = None, external: ExternalIgnores = ()
     ) -> FileReport:
-        shown = display or path.as_posix()
+        return self._lint_local(path, display or path.as_posix(), external, None)
+
+    def _lint_local(
+        self, path: Path, shown: str, external: ExternalIgnores, limit: int | None
+    ) -> FileReport:
         started = time.perf_counter()
         try:
-            data = read_regular_file(path)
+            data = read_regular_file(path, limit)
+        except FileTooLarge:
+            assert limit is not None
+            return FileReport(shown, error=too_large(shown, limit))
         except NotRegularFile as refused:
             return FileReport(shown, error=f"{shown}: {refused}")
         except OSError as error:
@@ -266,9 +273,15 @@ class Linter:
         """Lint the object ``url`` names (``s3://bucket/maps/a.xodr``), read here through
         fsspec; more than ``max_file_size`` bytes is an error, and so is what the store
         or the network refuses (one line, :mod:`xodrlint.remote`)."""
-        from xodrlint.remote import RemoteError, TooLarge, read_url
+        from xodrlint.remote import RemoteError, TooLarge, local_path, read_url, shown_url
 
-        shown = display or url
+        shown = display or shown_url(url)
+        local = local_path(url)
+        if local is not None:
+            # a file:// URL's file is read as a path named on the command line: a FIFO or
+            # a device is refused unread (file:///dev/zero was read up to the size limit,
+            # and a FIFO blocked the run)
+            return self._lint_local(Path(local), shown, external, max_file_size)
         started = time.perf_counter()
         try:
             data = read_url(url, max_file_size)

@@ -145,6 +145,26 @@ def read_url(url: str, limit: int) -> bytes:
     return data
 
 
+def shown_url(url: str) -> str:
+    """``url`` as reports and messages show it: without the user name and password a URL
+    may carry (``https://user:secret@host/…``), which every report would repeat."""
+    scheme, found, rest = url.partition("://")
+    if not found:
+        return url
+    authority, slash, below = rest.partition("/")
+    if "@" not in authority:
+        return url
+    return f"{scheme}://{authority.rpartition('@')[2]}{slash}{below}"
+
+
+def local_path(url: str) -> str | None:
+    """The local path a ``file://`` URL names, ``None`` for any other URL."""
+    if protocol_of(url) not in ("file", "local"):
+        return None
+    rest = url.split("://", 1)[1]
+    return rest if rest.startswith("/") else "/" + rest.partition("/")[2]
+
+
 def _unsatisfiable(error: Exception) -> bool:
     return any(_error_code(link) in ("InvalidRange", "416") for link in _chain(error))
 
@@ -242,9 +262,29 @@ class _Reasons:
     def __exit__(self, kind: object, error: BaseException | None, trace: object) -> None:
         if error is None or isinstance(error, RemoteError) or not isinstance(error, Exception):
             return  # Ctrl-C and the like pass
-        if _found_nothing(error):
+        # a store that cannot be reached says nothing about its objects (fsspec's HTTP
+        # filesystem raises FileNotFoundError for a refused connection)
+        if _found_nothing(error) and not _unreachable(error):
             raise _not_found(self._fs, self._path, error) from None
         raise RemoteError(reason(error)) from None
+
+
+def _unreachable(error: Exception) -> bool:
+    names = {cls.__name__ for link in _chain(error) for cls in type(link).__mro__}
+    return bool(names & _UNREACHABLE)
+
+
+#: Errors (by class name: their packages are not imported here) of a store out of reach.
+_UNREACHABLE: Final = frozenset(
+    {
+        "ConnectionError",  # refused, reset: OSError's subclasses of that name
+        "ClientConnectorError",
+        "EndpointConnectionError",
+        "ConnectTimeoutError",
+        "ConnectionTimeoutError",
+        "TimeoutError",
+    }
+)
 
 
 def _found_nothing(error: Exception) -> bool:
