@@ -5,6 +5,7 @@ few batches; Ctrl-C cancels the run's work; an unreachable scheduler is one line
 
 from __future__ import annotations
 
+import contextlib
 import json
 import multiprocessing
 import os
@@ -245,6 +246,44 @@ def test_an_unreachable_scheduler_is_one_line_and_exit_2_within_the_timeout(maps
     )
     assert done.stdout == ""
     assert 3 <= elapsed < 10
+
+
+@pytest.mark.parametrize("answer", ["nothing", "a frame of 8 GiB"])
+def test_a_peer_that_accepts_and_never_answers_is_one_line_and_exit_2(
+    maps: Path, answer: str
+) -> None:
+    # issue 30, item 9: still hanging at 150 s with a 5 s limit
+    import struct
+    import threading
+
+    server = socket.create_server(("127.0.0.1", 0))
+    held: list[socket.socket] = []
+
+    def accept() -> None:
+        with contextlib.suppress(OSError):
+            while True:
+                peer, _ = server.accept()
+                held.append(peer)
+                if answer != "nothing":  # what a hostile peer announces, then nothing
+                    peer.sendall(struct.pack("<QQQ", 8 * 1024**3, 1, 8 * 1024**3))
+
+    threading.Thread(target=accept, daemon=True).start()
+    address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
+    started = time.monotonic()
+    try:
+        done = subprocess.run(
+            [sys.executable, "-m", "xodrlint", "check", "--scheduler", address,
+             "--scheduler-timeout", "2", maps],
+            capture_output=True, text=True, timeout=120, check=False,
+        )  # fmt: skip
+    finally:
+        server.close()
+        for peer in held:
+            peer.close()
+    assert done.returncode == 2, done.stderr
+    (line,) = done.stderr.splitlines()
+    assert line == f"xodrlint: --scheduler {address}: the scheduler did not answer within 2 s"
+    assert time.monotonic() - started < 30
 
 
 def test_an_address_that_is_none_is_one_line_and_exit_2(maps: Path) -> None:

@@ -130,7 +130,7 @@ def connect(
             "a tls:// scheduler needs dask's TLS configuration (distributed.comm.tls)"
         )
     try:
-        client = Client(address, timeout=timeout, set_as_default=False)
+        client = _client_within(address, timeout)
     except ValueError as error:  # dask names what is wrong with the address
         raise SchedulerError(f"not a scheduler address: {error}") from None
     except TypeError:  # tls:// without dask's TLS configuration (its certificates)
@@ -145,6 +145,37 @@ def connect(
         except TimeoutError:
             raise SchedulerError(f"no worker joined the scheduler within {timeout:g} s") from None
         yield client
+
+
+def _client_within(address: str, timeout: float) -> Client:
+    """A client of ``address``, made within ``timeout`` seconds (and a little more for
+    the client's own start): Dask's ``timeout`` bounds the connection, not the answer,
+    and a peer that accepted and never answered held a run for ever. Past the deadline
+    the attempt is left to its daemon thread, and the run ends (exit 2)."""
+    made: list[Client] = []
+    failed: list[BaseException] = []
+
+    def make() -> None:
+        try:
+            made.append(Client(address, timeout=timeout, set_as_default=False))
+        except BaseException as error:  # handed to the caller, whatever it is
+            failed.append(error)
+
+    attempt = threading.Thread(target=make, name="xodrlint-connect", daemon=True)
+    attempt.start()
+    attempt.join(timeout + _CLIENT_START_SECONDS)
+    if failed:
+        error = failed[0]
+        if isinstance(error, MemoryError):  # a frame announced larger than the memory
+            raise SchedulerError("the scheduler's answer could not be read (MemoryError)")
+        raise error
+    if not made:
+        raise SchedulerError(f"the scheduler did not answer within {timeout:g} s")
+    return made[0]
+
+
+#: Seconds a client takes to start besides connecting (its thread, its event loop).
+_CLIENT_START_SECONDS: Final = 5.0
 
 
 @contextmanager
