@@ -5,7 +5,6 @@ few batches; Ctrl-C cancels the run's work; an unreachable scheduler is one line
 
 from __future__ import annotations
 
-import contextlib
 import json
 import multiprocessing
 import os
@@ -257,17 +256,22 @@ def test_a_peer_that_accepts_and_never_answers_is_one_line_and_exit_2(
     import threading
 
     server = socket.create_server(("127.0.0.1", 0))
+    server.settimeout(0.1)
     held: list[socket.socket] = []
+    stop = threading.Event()
 
     def accept() -> None:
-        with contextlib.suppress(OSError):
-            while True:
+        while not stop.is_set():
+            try:
                 peer, _ = server.accept()
-                held.append(peer)
-                if answer != "nothing":  # what a hostile peer announces, then nothing
-                    peer.sendall(struct.pack("<QQQ", 8 * 1024**3, 1, 8 * 1024**3))
+            except OSError:  # the timeout: look at stop again
+                continue
+            held.append(peer)
+            if answer != "nothing":  # what a hostile peer announces, then nothing
+                peer.sendall(struct.pack("<QQQ", 8 * 1024**3, 1, 8 * 1024**3))
 
-    threading.Thread(target=accept, daemon=True).start()
+    listening = threading.Thread(target=accept, daemon=True)
+    listening.start()
     address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
     started = time.monotonic()
     try:
@@ -277,6 +281,8 @@ def test_a_peer_that_accepts_and_never_answers_is_one_line_and_exit_2(
             capture_output=True, text=True, timeout=120, check=False,
         )  # fmt: skip
     finally:
+        stop.set()
+        listening.join()
         server.close()
         for peer in held:
             peer.close()
