@@ -380,3 +380,25 @@ def test_the_editor_server_tells_why_it_ignores_a_config(tmp_path: Path) -> None
         choice.problem
         == f"ignoring {project / 'xodrlint.toml'}: every user of the machine can write it"
     )
+
+
+@pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() != 0, reason="needs root to chown")
+def test_root_takes_the_config_of_a_checkout_another_user_owns(tmp_path: Path) -> None:
+    # a container job as root over the runner's checkout (uid 1001): the repository's
+    # own file, as its .git says
+    checkout = tmp_path / "repo"
+    (checkout / ".git").mkdir(parents=True)
+    (checkout / "xodrlint.toml").write_text('select = ["XS"]\n')
+    for path in (checkout / ".git", checkout / "xodrlint.toml"):
+        os.chown(path, 1001, 1001)
+    skipped: list[str] = []
+    found = find_config(checkout / "x.xodr", skipped)
+    assert found is not None and found.path == checkout / "xodrlint.toml" and not skipped
+
+
+def test_a_distrusted_config_is_not_even_parsed(tmp_path: Path) -> None:
+    project = _project(tmp_path, "xodrlint.toml", "select = [this is not TOML\n")
+    (project / "xodrlint.toml").chmod(0o666)
+    result = run("check", "-f", "json", project / "maps" / "broken.xodr")
+    assert result.exit_code == 1, result.stderr  # linted with the defaults, not exit 2
+    assert "every user of the machine can write it" in result.stderr

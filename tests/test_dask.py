@@ -516,10 +516,22 @@ def _refused(address: str, security: Any) -> None:
     assert time.monotonic() - started < 10, "not refused: the attempt timed out"
 
 
+@pytest.mark.loopback  # the scheduler's HTTP routes, asked on 127.0.0.1
 def test_a_local_cluster_refuses_peers_without_the_runs_credentials() -> None:
+    import urllib.error
+    import urllib.request
+
     from distributed.security import Security
 
     with engine.connect(engine.LOCAL, workers=1) as client:
+        # its HTTP server speaks no TLS: it serves the health check alone (not the
+        # logs, task errors and call stacks of the other routes)
+        port = client.run_on_scheduler(lambda dask_scheduler: dask_scheduler.http_server.port)
+        with urllib.request.urlopen(f"http://127.0.0.1:{port}/health", timeout=10) as answer:
+            assert answer.status == 200
+        for route in ("info/main/workers.html", "json/counts.json", "metrics"):
+            with pytest.raises(urllib.error.HTTPError, match="404"):
+                urllib.request.urlopen(f"http://127.0.0.1:{port}/{route}", timeout=10)
         scheduler = str(client.scheduler_info()["address"])
         folders = client.run(lambda dask_worker: dask_worker.local_directory)
         assert scheduler.startswith("tls://127.0.0.1:")

@@ -104,14 +104,7 @@ def test_the_command_line_survives_the_hostile_pack(tmp_path: Path) -> None:
 def test_the_rule_timeout_is_configured_like_any_setting(
     tmp_path: Path, value: str, code: int
 ) -> None:
-    (tmp_path / "xodrlint.toml").write_text(f"rule-timeout = {value}\n")
-    done = subprocess.run(
-        [sys.executable, "-m", "xodrlint", "config", "-f", "json"],
-        cwd=tmp_path,
-        check=False,
-        capture_output=True,
-        text=True,
-    )
+    done = _config_shown(tmp_path, f"rule-timeout = {value}\n")
     assert done.returncode == code, done.stderr
     if code == 0:
         # a config found in a folder does not lift the limit (issue 30, item 5): 60 s
@@ -120,6 +113,37 @@ def test_the_rule_timeout_is_configured_like_any_setting(
         assert (value == "0") == ("rule-timeout = 0 (no limit) is taken only" in done.stderr)
     else:
         assert "rule-timeout" in done.stderr and len(done.stderr.splitlines()) == 1
+
+
+@pytest.mark.parametrize(("value", "kept"), [("601", 600.0), ("86400", 600.0)])
+def test_a_config_found_in_a_folder_cannot_set_a_limit_that_is_none(
+    tmp_path: Path, value: str, kept: float
+) -> None:
+    done = _config_shown(tmp_path, f"rule-timeout = {value}\n")
+    assert done.returncode == 0, done.stderr
+    shown = json.loads(done.stdout)["settings"]["rule-timeout"]
+    assert shown["value"] == kept and "limited to 600 s" in shown["source"]
+    assert f"rule-timeout = {value} is taken only from the command line" in done.stderr
+
+
+def _config_shown(folder: Path, config: str) -> subprocess.CompletedProcess[str]:
+    """``xodrlint config -f json`` in ``folder``, under an ``xodrlint.toml`` of ``config``."""
+    (folder / "xodrlint.toml").write_text(config)
+    return subprocess.run(
+        [sys.executable, "-m", "xodrlint", "config", "-f", "json"],
+        cwd=folder, check=False, capture_output=True, text=True,
+    )  # fmt: skip
+
+
+def test_a_limit_past_a_day_is_refused(tmp_path: Path) -> None:
+    # 1e300 made the interval timer raise: every file an internal error, "All checks passed"
+    (tmp_path / "xodrlint.toml").write_text("rule-timeout = 1e300\n")
+    (tmp_path / "clean.xodr").write_bytes(CLEAN.read_bytes())
+    done = subprocess.run(
+        [sys.executable, "-m", "xodrlint", "check", "clean.xodr"],
+        cwd=tmp_path, check=False, capture_output=True, text=True,
+    )  # fmt: skip
+    assert done.returncode == 2 and "from 0 (no limit) to 86400" in done.stderr
 
 
 def test_a_config_the_user_names_may_lift_the_limit(tmp_path: Path) -> None:

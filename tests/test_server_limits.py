@@ -148,3 +148,41 @@ async def test_a_lone_surrogate_in_the_buffer_is_an_xs001_where_it_stands(
     text = EXAMPLE.replace('<partner name="W3"', '<partner name="W\ud8003"')
     found = await _open(client, tmp_path / "a.xodr", text)
     assert [(d.code, d.range.start.line) for d in found] == [("XS001", 25)], found[0].message
+
+
+def test_a_worker_that_does_not_start_is_said_and_the_next_lint_starts_afresh(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from xodrlint.server import worker
+
+    path, data = tmp_path / "a.xodr", EXAMPLE.encode()
+    (tmp_path / "xodrlint.toml").write_text('select = ["PT", "ST"]\n')
+    linting = worker.LintWorker()
+    monkeypatch.setattr(worker, "STARTUP_SECONDS", 0.0)  # no process is ready that soon
+    outcome = linting.lint(path, data)
+    assert outcome.report is None
+    assert (
+        outcome.failure
+        == f"the linting process did not start in time: linting {path} is left undone"
+    )
+    monkeypatch.setattr(worker, "STARTUP_SECONDS", 60.0)
+    report = linting.lint(path, data).report
+    assert report is not None and [f.code for f in report.findings] == ["PT003", "ST004"]
+    linting.close()  # the server ends: no lint starts a process again
+    closed = linting.lint(path, data)
+    assert closed.failure is not None and closed.failure.startswith("the server is shutting down")
+
+
+def test_a_hit_carries_plain_ints_whatever_a_rule_gave() -> None:
+    from lxml import etree
+
+    from xodrlint.findings import Hit
+    from xodrlint.rule_guard import checked_hit
+
+    class Sneaky(int):
+        def __str__(self) -> str:
+            return "1\n::error::injected"
+
+    root = etree.fromstring("<OpenDRIVE/>")
+    hit = checked_hit(Hit(root, "m", line=Sneaky(3), column=Sneaky(4)), root)
+    assert (type(hit.line), type(hit.column), hit.line, hit.column) == (int, int, 3, 4)

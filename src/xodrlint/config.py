@@ -52,22 +52,27 @@ class ConfigFile(NamedTuple):
 def find_config(start: Path, skipped: list[str] | None = None) -> ConfigFile | None:
     """The configuration that governs ``start``: the nearest one in it or above it, up
     to the repository's root or the user's home (:func:`config_folders`). A file that
-    another user could have written is passed over (:func:`distrust`), and why is
+    another user could have written is passed over unread (:func:`distrust`), and why is
     added to ``skipped``: a folder above a checkout (``/tmp``, a shared runner's work
     folder) may hold a file planted by anyone, which would name the schema, the rule
     options and the time limits of this user's run."""
-    for folder in config_folders(start):
+    folders = list(config_folders(start))
+    owner = _repository_owner(folders[-1])
+    for folder in folders:
         for name in CONFIG_NAMES:
             path = folder / name
-            if path.is_file():
-                found = read_config(path, required=name != "pyproject.toml")
-                if found is None:
-                    continue
-                reason = distrust(path)
-                if reason is None:
-                    return found
-                if skipped is not None:
+            if not path.is_file():
+                continue
+            reason = distrust(path, owner)
+            if reason is not None:
+                # someone else's pyproject.toml is said only when it holds our table
+                said = name != "pyproject.toml" or _has_our_table(path)
+                if said and skipped is not None:
                     skipped.append(f"ignoring {path}: {reason}")
+                continue
+            found = read_config(path, required=name != "pyproject.toml")
+            if found is not None:
+                return found
     return None
 
 
@@ -88,21 +93,43 @@ def config_folders(start: Path) -> Iterator[Path]:
             return
 
 
-def distrust(path: Path) -> str | None:
-    """Why ``path`` may not be this user's own (git's ``safe.directory`` idea): owned by
-    another user than the one running xodrlint (or root), or writable by every user;
-    ``None`` for a file only this user (or root) can have written."""
+def _repository_owner(last: Path) -> int | None:
+    """The owner of the repository whose root ``last`` is (the owner of its ``.git``),
+    ``None`` where ``last`` is no repository's root."""
+    try:
+        return (last / ".git").stat().st_uid
+    except OSError:
+        return None
+
+
+def distrust(path: Path, repository_owner: int | None = None) -> str | None:
+    """Why ``path`` may not be this user's own (git's ``safe.directory`` idea): writable
+    by every user, or owned by another user than the one running xodrlint, root, or the
+    owner of the repository it lies in (a checkout of another user's, linted by root in
+    a container: the repository's own file); ``None`` for a file one of those wrote."""
     if not hasattr(os, "geteuid"):
         return None  # no owners to compare (Windows): as git there, trusted
     try:
         status = path.stat()
     except OSError as error:
         return f"cannot be read: {error.strerror or error}"
-    if status.st_uid not in (os.geteuid(), 0):
-        return f"it is owned by another user (uid {status.st_uid})"
     if status.st_mode & stat.S_IWOTH:
         return "every user of the machine can write it"
+    if status.st_uid not in (os.geteuid(), 0, repository_owner):
+        return f"it is owned by another user (uid {status.st_uid})"
     return None
+
+
+def _has_our_table(path: Path) -> bool:
+    """Whether a ``pyproject.toml`` holds ``[tool.xodrlint]`` (one that cannot be read
+    or parsed holds none that matters)."""
+    import tomllib
+
+    try:
+        tool = tomllib.loads(path.read_text(encoding="utf-8")).get("tool")
+    except (OSError, ValueError, RecursionError):
+        return False
+    return isinstance(tool, dict) and "xodrlint" in tool
 
 
 def read_config(path: Path, *, required: bool = True) -> ConfigFile | None:
@@ -264,11 +291,19 @@ def _count(value: object) -> int:
 
 
 def seconds(value: object) -> float:
-    """A time limit in seconds: a finite number, 0 or more (0: no limit)."""
+    """A time limit in seconds: a finite number from 0 (no limit) to a day (a larger one
+    is no limit in all but name, and past 1e9 the interval timer cannot hold it)."""
     number = _number(value)
-    if number < 0:
-        raise TypeError("a number of seconds, 0 or more (0: no limit)")
+    if not 0 <= number <= MAX_SECONDS:
+        raise TypeError(f"a number of seconds from 0 (no limit) to {MAX_SECONDS:g}")
     return number
+
+
+#: The longest time limit a setting takes: a day.
+MAX_SECONDS: Final = 86_400.0
+#: The longest rule time limit a configuration found in a folder may set (a repository's
+#: file may lower the limit, or raise it for slow rules, but not lift it).
+MAX_FOUND_RULE_TIMEOUT: Final = 600.0
 
 
 _SIZE: Final = re.compile(r"(\d+)\s*([kmgt]i?)?b?", re.IGNORECASE)

@@ -99,6 +99,12 @@ def checked_hit(hit: object, root: etree._Element | None) -> Hit:
         value = getattr(hit, name)
         if value is not None and (not isinstance(value, int) or isinstance(value, bool)):
             raise RuleOutputError(f"yielded a hit whose {name} is {_shown(value)}")
+    # an int subclass writes whatever its __str__ says into every report (a new "::"
+    # command in GitHub's output): plain ints from here on
+    if hit.line is not None and type(hit.line) is not int:
+        hit = hit._replace(line=int(hit.line))
+    if hit.column is not None and type(hit.column) is not int:
+        hit = hit._replace(column=int(hit.column))
     if not isinstance(hit.related, tuple):
         raise RuleOutputError(f"yielded a hit whose related is {_shown(hit.related)}")
     for element in (hit.element, *hit.related):

@@ -42,6 +42,7 @@ from xodrlint.cli.stream import (
 from xodrlint.config import (
     COMMAND_LINE,
     DEFAULT_RULE_TIMEOUT,
+    MAX_FOUND_RULE_TIMEOUT,
     ConfigError,
     Settings,
     find_config,
@@ -157,18 +158,22 @@ def resolve_settings(
 
 def _limited(settings: Settings, found: Path) -> Settings:
     """``settings`` with the rule time limit on, where a configuration found in a folder
-    turned it off: the limit is what stops a runaway rule (a pattern of that very file),
-    and only the user's own command line (``--rule-timeout 0``, or ``--config``) may lift
-    it."""
-    if settings.rule_timeout > 0 or settings.source_of("rule-timeout") != str(found):
+    turned it off (0) or set it past :data:`~xodrlint.config.MAX_FOUND_RULE_TIMEOUT`: the
+    limit is what stops a runaway rule (a pattern of that very file), and only the user's
+    own command line (``--rule-timeout``, or ``--config``) may lift it."""
+    timeout = settings.rule_timeout
+    if 0 < timeout <= MAX_FOUND_RULE_TIMEOUT or settings.source_of("rule-timeout") != str(found):
         return settings
+    kept = DEFAULT_RULE_TIMEOUT if timeout == 0 else MAX_FOUND_RULE_TIMEOUT
+    asked = "0 (no limit)" if timeout == 0 else f"{timeout:g}"
     error_line(
         one_line(
-            f"warning: {found}: rule-timeout = 0 (no limit) is taken only from the command "
-            f"line or --config; rules keep their {DEFAULT_RULE_TIMEOUT:g} s limit"
+            f"warning: {found}: rule-timeout = {asked} is taken only from the command line "
+            f"or --config; rules keep a {kept:g} s limit"
         )
     )
-    return replace(settings, rule_timeout=DEFAULT_RULE_TIMEOUT)
+    sources = {**settings.sources, "rule-timeout": f"{found}, limited to {kept:g} s"}
+    return replace(settings, rule_timeout=kept, sources=sources)
 
 
 def _overrides(request: CheckRequest) -> dict[str, object]:

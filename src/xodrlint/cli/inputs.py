@@ -15,6 +15,7 @@ from xodrlint.api import STDIN, Input, collect_inputs, printable_path
 from xodrlint.config import Settings, any_match, glob_matches, too_large
 from xodrlint.messages import one_line, plural
 from xodrlint.output import error_line
+from xodrlint.remote import shown_url
 
 
 class InputsError(ValueError):
@@ -48,7 +49,7 @@ def collect(paths: Sequence[str], settings: Settings) -> list[Input]:
         else:
             inputs.append(item)
     if not inputs:
-        named = " ".join(printable_path(path) for path in paths)
+        named = " ".join(printable_path(shown_url(path)) for path in paths)
         error_line(f"warning: no .xodr files found under {named}")
     return inputs
 

@@ -92,7 +92,10 @@ class XodrServer(LanguageServer):
             return None
         path = Path(to_fs_path(uri) or "untitled.xodr")
         outcome = self.worker.lint(path, document_bytes(text))
-        return _converted(outcome, uri, text, self.encoding, self.registry)
+        found, told = _converted(outcome, uri, text, self.encoding, self.registry)
+        # a rule pack left out (it failed to load, or breaks the rule API) is said once:
+        # the worker loads the packs this process did
+        return found, [*self.registry.warnings, *told]
 
     def close(self, uri: str) -> None:
         self.latest[uri] = self.latest.get(uri, 0) + 1
@@ -144,14 +147,14 @@ def build() -> XodrServer:
         options = params.initialization_options
         trusted = _option(options, "trusted", True)
         deadline = _option(options, "lintTimeout", DEFAULT_DEADLINE)
-        ls.worker.trusted = trusted is not False
+        ls.worker.trusted = trusted is True  # anything but JSON's true: not trusted
         if isinstance(deadline, int | float) and not isinstance(deadline, bool) and deadline > 0:
             ls.worker.deadline = float(deadline)
 
     @server.feature(types.SHUTDOWN)
     def shutdown(ls: XodrServer, params: None) -> None:
         ls.shut_down = True
-        ls.worker.close()
+        ls.worker.close()  # a lint waiting on it ends at once; no other starts
 
     @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
     def did_open(ls: XodrServer, params: types.DidOpenTextDocumentParams) -> None:

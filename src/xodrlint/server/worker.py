@@ -19,7 +19,6 @@ so it compiles schemas and keeps linters warm across lints, as the server did.
 
 from __future__ import annotations
 
-import contextlib
 import multiprocessing
 import os
 from multiprocessing.connection import Connection
@@ -58,6 +57,7 @@ class LintWorker:
         self.deadline = deadline
         self._process: BaseProcess | None = None
         self._connection: Connection | None = None
+        self._closed = False
 
     def lint(self, path: Path, data: bytes) -> Outcome:
         """Lint ``data`` as the file ``path``, within the deadline."""
@@ -72,25 +72,21 @@ class LintWorker:
             self._ask(("forget",), "reloading the configuration")
 
     def close(self) -> None:
-        """Stop the process (the server ends)."""
-        process, connection = self._process, self._connection
-        self._process = self._connection = None
-        if connection is not None:
-            with contextlib.suppress(OSError):
-                connection.send(("stop",))
-            connection.close()
-        if process is not None:
+        """Stop the process for good (the server ends). Called from any thread, also while
+        a lint waits on the process in another: the process is killed (it keeps nothing
+        worth a word), that wait ends at once, and no lint starts another."""
+        self._closed = True
+        process = self._process
+        if process is not None and process.is_alive():
+            process.kill()
             process.join(timeout=5)
-            if process.is_alive():
-                process.kill()
-                process.join()
 
     def _ask(self, request: tuple[object, ...], what: str) -> Outcome | str | None:
         """The worker's answer to ``request``, or why there is none (a string)."""
         try:
             connection = self._started()
-        except (EOFError, OSError) as error:
-            return f"{error}; {what} is left undone"
+        except OSError as error:
+            return f"{error}: {what} is left undone"
         try:
             connection.send(request)
             if not connection.poll(self.deadline):
@@ -106,6 +102,8 @@ class LintWorker:
         return answer
 
     def _started(self) -> Connection:
+        if self._closed:
+            raise OSError("the server is shutting down")
         if self._connection is not None:
             return self._connection
         # spawned, not forked: the server has threads (the event loop's, the lint pool's)
@@ -119,9 +117,15 @@ class LintWorker:
         self._process, self._connection = process, ours
         # the deadline is the lint's: a start-up (imports, the rule packs) on a busy
         # machine is not counted against it, though it has a limit of its own
-        if not ours.poll(STARTUP_SECONDS) or ours.recv() != READY:
+        try:
+            ready = ours.recv() if ours.poll(STARTUP_SECONDS) else None
+        except (EOFError, OSError):  # it ended before it was ready
+            ready = None
+        if ready != READY:
+            ended = not process.is_alive()
             code = self._stop()
-            raise OSError(f"the linting process did not start (exit code {code})")
+            why = f"ended at start (exit code {code})" if ended else "did not start in time"
+            raise OSError(f"the linting process {why}")
         return ours
 
     def _stop(self) -> int | None:

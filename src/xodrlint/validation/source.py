@@ -32,6 +32,7 @@ from typing import Final
 
 from lxml import etree
 
+from xodrlint.config import shown_value
 from xodrlint.validation.sets import SchemaLoadError, read_schema_file
 
 XS: Final = "http://www.w3.org/2001/XMLSchema"
@@ -140,7 +141,7 @@ def _confined(including: Path, location: str, folder: Path) -> Path:
             target = None
     if target is None:
         raise SchemaLoadError(
-            f"schema {including} names '{location}': xodrlint reads the files of a schema "
-            f"set from its own folder ({folder}) only, by relative paths"
+            f"schema {including} names {shown_value(location)}: xodrlint reads the files of "
+            f"a schema set from its own folder ({folder}) only, by relative paths"
         )
     return target

@@ -34,6 +34,7 @@ from typing import Final
 from distributed import Client, Future, LocalCluster, WorkerPlugin, as_completed, get_worker
 from distributed.client import FutureCancelledError
 from distributed.scheduler import KilledWorker
+from distributed.security import Security
 
 from xodrlint import __version__
 from xodrlint.engine import Linter, LintOptions, select_rules
@@ -154,16 +155,27 @@ def _client_within(address: str, timeout: float) -> Client:
     the attempt is left to its daemon thread, and the run ends (exit 2)."""
     made: list[Client] = []
     failed: list[BaseException] = []
+    lock, abandoned = threading.Lock(), threading.Event()
 
     def make() -> None:
         try:
-            made.append(Client(address, timeout=timeout, set_as_default=False))
+            client = Client(address, timeout=timeout, set_as_default=False)
         except BaseException as error:  # handed to the caller, whatever it is
             failed.append(error)
+            return
+        with lock:
+            if not abandoned.is_set():
+                made.append(client)
+                return
+        with contextlib.suppress(Exception):  # too late: nobody else would close it
+            client.close()
 
     attempt = threading.Thread(target=make, name="xodrlint-connect", daemon=True)
     attempt.start()
     attempt.join(timeout + _CLIENT_START_SECONDS)
+    with lock:
+        if not made:
+            abandoned.set()
     if failed:
         error = failed[0]
         if isinstance(error, MemoryError):  # a frame announced larger than the memory
@@ -236,8 +248,6 @@ def _local_cluster(workers: int, scratch: str) -> LocalCluster:
     workers keep their spill files in ``scratch``, this run's private folder, not in the
     shared ``/tmp/dask-scratch-space``.
     """
-    from distributed.security import Security
-
     try:
         security = Security.temporary()
     except ImportError:
@@ -245,21 +255,36 @@ def _local_cluster(workers: int, scratch: str) -> LocalCluster:
             "--scheduler local needs the 'cryptography' package for the cluster's TLS "
             "credentials: pip install 'xodrlint[dask]'"
         ) from None
+    import dask
+
+    # the scheduler's and workers' HTTP servers speak no TLS: of their routes, only the
+    # health check (the others show logs, task errors and call stacks to any local user)
+    only_health = ["distributed.http.health"]
     try:
-        return LocalCluster(
-            n_workers=workers,
-            threads_per_worker=1,
-            processes=True,
-            host="127.0.0.1",
-            protocol="tls://",
-            security=security,
-            local_directory=scratch,
-            dashboard_address=None,
-            scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
-            silence_logs=logging.ERROR,
-        )
+        with dask.config.set(
+            {
+                "distributed.scheduler.http.routes": only_health,
+                "distributed.worker.http.routes": only_health,
+            }
+        ):
+            return _started_cluster(workers, scratch, security)
     except OSError as error:
         raise SchedulerError(f"cannot start a local cluster: {error}") from None
+
+
+def _started_cluster(workers: int, scratch: str, security: Security) -> LocalCluster:
+    return LocalCluster(
+        n_workers=workers,
+        threads_per_worker=1,
+        processes=True,
+        host="127.0.0.1",
+        protocol="tls://",
+        security=security,
+        local_directory=scratch,
+        dashboard_address=None,
+        scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
+        silence_logs=logging.ERROR,
+    )
 
 
 def lint_on_cluster(
