@@ -188,7 +188,8 @@ def test_the_install_command_names_the_dask_extra() -> None:
     (command,) = [code for kind, code in BLOCKS if kind == "sh"]
     requirement = Requirement(shlex.split(command.strip())[2])
     assert requirement.name == "xodrlint" and requirement.extras == {"dask"}
-    assert [Requirement(r).name for r in extras["dask"]] == ["dask"]
+    # cryptography: the TLS credentials of --scheduler local
+    assert [Requirement(r).name for r in extras["dask"]] == ["dask", "cryptography"]
     assert "distributed" in Requirement(extras["dask"][0]).extras
 
 

@@ -33,6 +33,7 @@ from typing import Final
 
 from distributed import Client, Future, LocalCluster, WorkerPlugin, as_completed, get_worker
 from distributed.client import FutureCancelledError
+from distributed.comm.addressing import get_address_host_port
 from distributed.scheduler import KilledWorker
 from distributed.security import Security
 
@@ -131,6 +132,9 @@ def connect(
             "a tls:// scheduler needs dask's TLS configuration (distributed.comm.tls)"
         )
     try:
+        # an address that cannot be one is said before any client is made (a half-made
+        # client's finalizer complains later, in whatever code collects it)
+        get_address_host_port(address)
         client = _client_within(address, timeout)
     except ValueError as error:  # dask names what is wrong with the address
         raise SchedulerError(f"not a scheduler address: {error}") from None
