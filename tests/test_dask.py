@@ -510,7 +510,7 @@ def _refused(address: str, security: Any) -> None:
     Client that failed to start leaves a half-made object whose finalizer complains)."""
     import asyncio
 
-    from distributed.comm import connect
+    from distributed.comm.core import connect
     from distributed.comm.core import CommClosedError
 
     async def ask_identity() -> object:
