@@ -510,8 +510,7 @@ def _refused(address: str, security: Any) -> None:
     Client that failed to start leaves a half-made object whose finalizer complains)."""
     import asyncio
 
-    from distributed.comm.core import connect
-    from distributed.comm.core import CommClosedError
+    from distributed.comm.core import CommClosedError, connect
 
     async def ask_identity() -> object:
         arguments = security.get_connection_args("client") if security is not None else {}
