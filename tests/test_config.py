@@ -255,7 +255,10 @@ def test_schema_path_in_a_config_is_relative_to_the_file(tmp_path: Path) -> None
     project = _project(tmp_path, "xodrlint.toml", 'schema = "schemas/core.xsd"\n')
     result = run("check", project / "maps" / "broken.xodr")
     assert result.exit_code == 2
-    assert f"schema {project / 'schemas' / 'core.xsd'}: no such file or folder" in result.stderr
+    assert (
+        f"schema {project / 'schemas' / 'core.xsd'} (from {project / 'xodrlint.toml'}): "
+        "no such file or folder" in result.stderr
+    )
 
 
 @pytest.mark.parametrize(

@@ -535,3 +535,38 @@ def test_a_set_with_a_target_namespace_validates_files_of_its_version(
     assert report.schema is not None and "1.1" in report.schema
     assert [(f.code, f.line) for f in report.findings] == [("XS006", 2)]
     assert "length" in report.findings[0].message
+
+
+# -- issue 31, item 2: a schema path that is not there is said, with where it came from ----
+
+
+def test_a_schema_path_variable_naming_nothing_is_one_line_and_exit_2(tmp_path: Path) -> None:
+    # a typo fell back to the built-in schema, exit 0: CI lost full validation unseen
+    missing = tmp_path / "shared" / "schema"
+    done = _cli("check", str(REPO / "examples" / "clean.xodr"),
+                env={"XODRLINT_SCHEMA_PATH": f"{tmp_path}{os.pathsep}{missing}"})  # fmt: skip
+    assert done.returncode == 2
+    assert (
+        done.stderr == f"xodrlint: XODRLINT_SCHEMA_PATH names {missing}: no such file or folder\n"
+    )
+
+
+def test_a_config_naming_no_schema_says_which_file_named_it(tmp_path: Path) -> None:
+    (tmp_path / "xodrlint.toml").write_text('schema = "nope"\n')
+    (tmp_path / "clean.xodr").write_bytes((REPO / "examples" / "clean.xodr").read_bytes())
+    done = _cli("check", str(tmp_path / "clean.xodr"))
+    assert done.returncode == 2
+    assert done.stderr == (
+        f"xodrlint: schema {tmp_path / 'nope'} (from {tmp_path / 'xodrlint.toml'}): "
+        "no such file or folder\n"
+    )
+
+
+def test_the_report_names_the_config_file_that_gave_the_schema(tmp_path: Path) -> None:
+    set_entry = _set(tmp_path / "sets", "1.7.0")
+    (tmp_path / "xodrlint.toml").write_text('schema = "sets"\n')
+    (tmp_path / "clean.xodr").write_bytes((REPO / "examples" / "clean.xodr").read_bytes())
+    done = _cli("check", "-f", "json", str(tmp_path / "clean.xodr"))
+    assert done.returncode == 0, done.stderr
+    (described,) = [f["schema"] for f in json.loads(done.stdout)["files"]]
+    assert f"({set_entry}, from {tmp_path / 'xodrlint.toml'})" in str(described)

@@ -19,7 +19,14 @@ from typing import Final, NamedTuple
 
 from lxml import etree
 
-from xodrlint.config import DEFAULT_MAX_FILE_SIZE, DEFAULT_RULE_TIMEOUT, Settings, too_large
+from xodrlint.config import (
+    COMMAND_LINE,
+    DEFAULT,
+    DEFAULT_MAX_FILE_SIZE,
+    DEFAULT_RULE_TIMEOUT,
+    Settings,
+    too_large,
+)
 from xodrlint.document import Document, Version, load_bytes
 from xodrlint.files import FileTooLarge, NotRegularFile, read_regular_file
 from xodrlint.findings import (
@@ -70,6 +77,8 @@ class LintOptions(NamedTuple):
     severity: Mapping[str, Severity] = NO_ENTRIES
     schema: Path | None = None
     schema_origin: Origin = Origin.OPTION
+    schema_source: str = ""
+    """The config file that set ``schema`` (empty: the command line, or the API)."""
     keep_source: bool = False
     """Attach the text of each finding's line to the report (for ``--show-source``)."""
     rule_options: Mapping[str, float | str] = NO_ENTRIES
@@ -93,11 +102,17 @@ class LintOptions(NamedTuple):
     ) -> LintOptions:
         """The options ``settings`` give, the same for every client of the engine (the
         command line, the language server); ``keep_*`` are a report's own needs."""
+        from_file = settings.schema is not None and settings.source_of("schema") not in (
+            COMMAND_LINE,
+            DEFAULT,
+        )
         return cls(
             select=settings.selected,
             ignore=settings.ignore,
             severity=settings.severity,
             schema=settings.schema,
+            schema_origin=Origin.CONFIG if from_file else Origin.OPTION,
+            schema_source=settings.source_of("schema") if from_file else "",
             keep_source=keep_source,
             rule_options=settings.rule_options,
             keep_suppressed=keep_suppressed,
@@ -219,7 +234,11 @@ class Linter:
             for r in self.rules
             if r.meta.since is not None and not self.options.all_versions
         }
-        finder = SchemaFinder(option=self.options.schema, option_origin=self.options.schema_origin)
+        finder = SchemaFinder(
+            option=self.options.schema,
+            option_origin=self.options.schema_origin,
+            option_source=self.options.schema_source,
+        )
         self._validators = SchemaValidators(finder)
 
     def warm_up(self, path: Path) -> None:

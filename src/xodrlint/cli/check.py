@@ -69,7 +69,7 @@ from xodrlint.rule_options import (
     declared_options,
     resolve_rule_options,
 )
-from xodrlint.validation.sets import SchemaLoadError
+from xodrlint.validation.sets import SCHEMA_PATH_ENV, SchemaFinder, SchemaLoadError
 from xodrlint.workers.batch import Engine, default_jobs, in_order, stream_tasks
 
 if TYPE_CHECKING:
@@ -375,8 +375,14 @@ def prepare_linter(registry: Registry, request: CheckRequest) -> tuple[Settings,
 
 def _linter(registry: Registry, settings: Settings, request: CheckRequest) -> Linter:
     if settings.schema is not None and not settings.schema.exists():
-        flag = "--schema" if settings.source_of("schema") == COMMAND_LINE else "schema"
-        raise UsageError(f"{flag} {settings.schema}: no such file or folder")
+        source = settings.source_of("schema")
+        if source == COMMAND_LINE:
+            raise UsageError(f"--schema {settings.schema}: no such file or folder")
+        raise UsageError(f"schema {settings.schema} (from {source}): no such file or folder")
+    for path in SchemaFinder().environment_paths():
+        # a typo would fall back to the built-in schema: CI would lose full validation
+        if not path.exists():
+            raise UsageError(f"{SCHEMA_PATH_ENV} names {path}: no such file or folder")
     for _, selectors in settings.per_file_ignores:
         select_rules(registry, selectors, ())  # an entry that names no rule is an error
     options = LintOptions.of(

@@ -66,6 +66,14 @@ class SchemaSet(NamedTuple):
     entry: Path
     version: tuple[int, int, int] | None
     origin: Origin
+    source: str = ""
+    """What named the set, for messages, where the origin alone does not say: the config
+    file whose ``schema`` it is."""
+
+    @property
+    def given_by(self) -> str:
+        """Where the set came from, as messages say it (``--schema``, a config file)."""
+        return self.source or str(self.origin)
 
     @property
     def is_builtin(self) -> bool:
@@ -111,13 +119,13 @@ class SchemaSet(NamedTuple):
         checked = "" if declared == effective else f" (checked as {effective[0]}.{effective[1]})"
         return (
             f"the file declares OpenDRIVE {declared[0]}.{declared[1]}{checked}; the "
-            f"{self.label} given for every version ({self.origin}) validated it"
+            f"{self.label} given for every version ({self.given_by}) validated it"
         )
 
     def describe(self) -> str:
         if self.is_builtin:
             return f"{self.label} (railroad elements only)"
-        return f"{self.label} ({self.entry}, from {self.origin})"
+        return f"{self.label} ({self.entry}, from {self.given_by})"
 
 
 def user_schema_dir() -> Path:
@@ -134,28 +142,39 @@ class SchemaFinder(NamedTuple):
     option_origin: Origin = Origin.OPTION
     environment: Mapping[str, str] | None = None
     data_dir: Path | None = None
+    option_source: str = ""
+    """The config file that named ``option`` (empty: the command line did)."""
 
     def locations(self) -> Iterator[tuple[Path, Origin]]:
         if self.option is not None:
             yield self.option, self.option_origin
-        env = os.environ if self.environment is None else self.environment
-        for part in env.get(SCHEMA_PATH_ENV, "").split(os.pathsep):
-            if part.strip():
-                yield Path(part.strip()).expanduser(), Origin.ENVIRONMENT
+        for path in self.environment_paths():
+            yield path, Origin.ENVIRONMENT
         yield (self.data_dir or user_schema_dir()), Origin.USER_DATA
+
+    def environment_paths(self) -> list[Path]:
+        """The paths ``XODRLINT_SCHEMA_PATH`` names."""
+        env = os.environ if self.environment is None else self.environment
+        parts = env.get(SCHEMA_PATH_ENV, "").split(os.pathsep)
+        return [Path(part.strip()).expanduser() for part in parts if part.strip()]
 
     def find(self, major: int, minor: int) -> SchemaSet:
         """The official set for ``major.minor`` (newest patch), else the built-in one."""
         for location, origin in self.locations():
             found = find_in(location, major, minor, origin)
             if found is not None:
-                return found
+                return self._named(found)
         return builtin_set(major, minor)
 
     def official_sets(self) -> Iterator[SchemaSet]:
         """Every official set any location offers, for ``xodrlint schemas list``."""
         for location, origin in self.locations():
-            yield from _sets_in(location, origin)
+            yield from map(self._named, _sets_in(location, origin))
+
+    def _named(self, found: SchemaSet) -> SchemaSet:
+        if found.origin is self.option_origin and self.option_source:
+            return found._replace(source=self.option_source)
+        return found
 
 
 def _names_a_file(location: Path) -> bool:
