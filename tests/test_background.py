@@ -210,3 +210,31 @@ def test_the_official_schemas_may_run_in_a_thread() -> None:
 
     entry = next((SHARED_SCHEMAS / "1.7.0").glob("*core.xsd"))
     assert Libxml2Validator(entry).thread_safe
+
+
+def test_the_compile_started_while_parsing_has_ended_when_validation_starts(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # the compile thread may not have taken its lock yet when validation compiles the set
+    # itself, or may let go of it a moment before it ends: were it still running, a large
+    # map's validation would not fork and the run would lose its overlap
+    from xodrlint.document import Version, load_bytes
+    from xodrlint.validation.sets import SchemaFinder
+    from xodrlint.validation.validators import SchemaValidators
+
+    doc = load_bytes((REPO / "examples" / "clean.xodr").read_bytes(), "clean.xodr")
+    assert doc.effective is not None
+    alone_when_started: list[bool] = []
+    start_hits = background.start_hits
+
+    def spied(*args: object, **kwargs: object) -> object:
+        alone_when_started.append(background.single_threaded())
+        return start_hits(*args, **kwargs)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(background, "start_hits", spied)
+    _until_single_threaded()
+    for _ in range(50):
+        validators = SchemaValidators(SchemaFinder(None, environment={}, data_dir=tmp_path))
+        validators.compile_soon(Version(doc.effective.major, doc.effective.minor))
+        validators.start(doc).result()
+    assert alone_when_started == [True] * 50

@@ -71,6 +71,7 @@ class SchemaValidators:
         # held while a schema compiles: the compile started by compile_soon and the
         # validation that needs it take turns
         self._compiling = threading.Lock()
+        self._compiler: threading.Thread | None = None
 
     def schema_for(self, doc: Document) -> SchemaSet | None:
         if doc.effective is None:
@@ -98,7 +99,10 @@ class SchemaValidators:
             with contextlib.suppress(Exception):
                 self._validator(schema)
 
-        threading.Thread(target=compile_quietly, name="xodrlint-compile", daemon=True).start()
+        self._compiler = threading.Thread(
+            target=compile_quietly, name="xodrlint-compile", daemon=True
+        )
+        self._compiler.start()
 
     def start(self, doc: Document) -> Pending[SchemaCheck | None]:
         """Begin validating ``doc``: libxml2 validates in a thread (a large document of a
@@ -108,6 +112,7 @@ class SchemaValidators:
         if schema is None or doc.tree is None:
             return Pending(lambda: None)
         validator = self._validator(schema)  # compiled here, so a child would inherit it
+        self._compiler_gone()
         root = doc.tree.getroot()
         # A validator that splits its work (libxml2, then XSD 1.1 checks that need a slow
         # xmlschema model) runs the first part beside the rules (a thread or a child): the
@@ -137,6 +142,17 @@ class SchemaValidators:
         schema = self.schema_for(doc)
         if schema is not None:
             self._validator(schema)
+
+    def _compiler_gone(self) -> None:
+        # A process that still runs the compile thread does not fork its validation, and
+        # the thread may not have taken the lock yet, or be ending after letting it go.
+        # Python's join returns a moment before the system thread is gone from the
+        # process, which is what decides (see background.single_threaded).
+        compiler, self._compiler = self._compiler, None
+        if compiler is None:
+            return
+        compiler.join()
+        background.until_thread_gone(compiler.native_id)
 
     def _validator(self, schema: SchemaSet) -> Validator:
         with self._compiling:

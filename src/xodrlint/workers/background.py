@@ -22,6 +22,7 @@ from __future__ import annotations
 import os
 import sys
 import threading
+import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import Final, Generic, TypeVar, cast
@@ -79,6 +80,18 @@ def single_threaded() -> bool:
         return next(threads, None) is not None and next(threads, None) is None
     except OSError:  # no /proc (another system): Python's own threads are all it knows
         return True
+
+
+def until_thread_gone(native_id: int | None, seconds: float = 1.0) -> None:
+    """Wait, at most ``seconds``, until the system thread ``native_id`` of a thread
+    Python has joined is gone from this process (Linux lists it until its stack is freed,
+    a few microseconds after the join)."""
+    if native_id is None:
+        return
+    task = Path(f"/proc/self/task/{native_id}")
+    deadline = time.monotonic() + seconds
+    while task.exists() and time.monotonic() < deadline:
+        time.sleep(0.0001)
 
 
 def threads_allowed() -> bool:
