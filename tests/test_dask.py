@@ -462,12 +462,12 @@ def test_workers_with_other_rules_than_the_run_are_one_line_and_exit_2(
 ) -> None:
     # a pack installed here and not there (or the other way): their reports would differ
     # from --jobs's in silence
-    from xodrlint.engine import select_rules
+    selected = engine._selected
 
-    def one_rule_fewer(*args: Any) -> list[Any]:
-        return select_rules(*args)[1:]
+    def one_rule_fewer(*args: Any) -> tuple[str, ...]:
+        return selected(*args)[1:]
 
-    monkeypatch.setattr(engine, "select_rules", one_rule_fewer)
+    monkeypatch.setattr(engine, "_selected", one_rule_fewer)
     result = run("check", "--scheduler", cluster.scheduler_address, maps)
     assert result.exit_code == 2
     (line,) = result.stderr.splitlines()
@@ -492,11 +492,11 @@ def test_a_relative_schema_goes_out_absolute(
     tasks = [Task(Path("examples/clean.xodr"), "examples/clean.xodr")]
     with pytest.raises(engine.SchedulerError):
         list(lint_on_cluster(client, LintOptions(schema=Path("examples")), tasks))
-    assert made[0].schema == REPO / "examples"
+    assert [options.schema for options in made[0]] == [REPO / "examples"]
 
 
 def test_a_schema_a_worker_cannot_see_stops_the_run() -> None:
-    plugin = engine.LinterPlugin(LintOptions(schema=Path("/nonexistent/schemas")), ())
+    plugin = engine.LinterPlugin([LintOptions(schema=Path("/nonexistent/schemas"))], [()])
     with pytest.raises(RuntimeError, match="the schema /nonexistent/schemas is not there"):
         plugin.setup(None)
 
@@ -571,3 +571,24 @@ def test_a_local_cluster_without_cryptography_is_one_line(monkeypatch: pytest.Mo
         engine.connect(engine.LOCAL, workers=1),
     ):
         pass  # pragma: no cover
+
+
+def test_each_file_is_linted_under_its_own_configuration_on_the_cluster(
+    cluster: LocalCluster, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # a/ ignores what broken.xodr holds, b/ has no configuration: the workers keep a
+    # linter per configuration and lint each file with its own
+    (tmp_path / ".git").mkdir()
+    for folder in ("a", "b"):
+        (tmp_path / folder).mkdir()
+        for copy in range(3):
+            shutil.copy(REPO / "examples" / "broken.xodr", tmp_path / folder / f"{copy}.xodr")
+    (tmp_path / "a" / "xodrlint.toml").write_text('ignore = ["XS", "SW", "RL", "ST"]\n', "utf-8")
+    (tmp_path / "b" / "xodrlint.toml").write_text("warn-unused-suppressions = true\n", "utf-8")
+    monkeypatch.chdir(tmp_path)
+    alone = run("check", "-f", "json", "-j", "1", ".")
+    on_cluster = run("check", "-f", "json", "--scheduler", cluster.scheduler_address, ".")
+    assert on_cluster.exit_code == alone.exit_code == 1, on_cluster.stderr
+    assert on_cluster.stdout == alone.stdout
+    paths = {f["path"].split("/")[0] for f in json.loads(alone.stdout)["findings"]}
+    assert paths == {"b"}

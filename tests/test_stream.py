@@ -148,7 +148,8 @@ def test_an_engine_of_any_kind_serves_the_command_line(tmp_path: Path) -> None:
 
 def test_inputs_the_engine_does_not_lint_keep_their_place(tmp_path: Path) -> None:
     paths = _copies(tmp_path, 2)
-    named = (str(paths[0]), str(tmp_path / "gone.xodr"), str(paths[1]), str(tmp_path / "x"))
+    # named to sort in this order: inputs are linted and reported by name
+    named = (str(paths[0]), str(tmp_path / "m0000z.xodr"), str(paths[1]), str(tmp_path / "x"))
     request = CheckRequest(paths=named)
     settings, linter = prepare_linter(default_registry(), request)
     inputs = collect(named, settings)
@@ -178,13 +179,13 @@ def test_an_unreadable_file_gives_its_line_in_its_place(tmp_path: Path) -> None:
     missing = tmp_path / "missing.xodr"
     result = cli("check", "-f", "jsonl", "-j", "1", BROKEN, missing, TWO, code=2)
     lines = lines_of(result.stdout)
-    assert [line.get("code", "error") for line in lines] == [
-        *["XS006", "XS006", "SW006", "RL003", "ST004", "XS006"],
+    assert [line.get("code", "error") for line in lines] == [  # by name: /tmp before /work
         "error",
+        *["XS006", "XS006", "SW006", "RL003", "ST004", "XS006"],
         *["PT003", "ST004"],
     ]
     error = f"{missing}: no such file or directory"
-    assert lines[6] == {"path": str(missing), "error": error}
+    assert lines[0] == {"path": str(missing), "error": error}
     assert f"xodrlint: {error}\n" in result.stderr
 
 
@@ -223,12 +224,12 @@ def test_jsonl_reads_standard_input_under_its_given_name() -> None:
 
 
 def test_notes_and_verbose_lines_go_to_stderr_file_by_file(tmp_path: Path) -> None:
-    result = cli("check", "-f", "jsonl", "-v", "-j", "1", CLEAN, BROKEN, code=1)
+    result = cli("check", "-f", "jsonl", "-v", "-j", "1", BROKEN, CLEAN, code=1)
     assert len(lines_of(result.stdout)) == 6
     errors = result.stderr.splitlines()
     assert "xodrlint: files: 2, linted in this process" in errors
     described = [line for line in errors if line.startswith(("xodrlint: /", "xodrlint: examples"))]
-    assert [line.split(":")[1].strip() for line in described] == [str(CLEAN), str(BROKEN)]
+    assert [line.split(":")[1].strip() for line in described] == [str(BROKEN), str(CLEAN)]
     assert errors[-2].startswith("xodrlint: note: only railroad elements were validated")
     assert errors[-1].startswith("xodrlint: linted 2 files in ")
 

@@ -127,7 +127,7 @@ def test_no_respect_gitignore_lints_what_they_exclude_but_not_hidden_names(repo:
 
 
 def test_a_file_named_explicitly_is_always_linted(repo: Path) -> None:
-    named = [repo / "build/out.xodr", repo / "maps/draft.xodr", repo / ".hidden/h.xodr"]
+    named = [repo / ".hidden/h.xodr", repo / "build/out.xodr", repo / "maps/draft.xodr"]
     result = run("check", *named, "-f", "json")
     assert result.exit_code == 0, result.output
     assert [f["path"] for f in json.loads(result.stdout)["files"]] == [str(p) for p in named]
@@ -266,7 +266,8 @@ def test_show_files_lists_in_report_order_as_reports_name_files(
     listed = CliRunner().invoke(app, ["check", *args, "--show-files"], input="<OpenDRIVE/>")
     linted = CliRunner().invoke(app, ["check", *args, "-f", "json"], input=CLEAN.read_text())
     assert listed.exit_code == 0, listed.output
-    assert listed.stdout.splitlines() == ["maps/sub/b.xodr", "in.xodr", "maps/a.xodr"]
+    # by name, whatever the order given, standard input by --stdin-filename
+    assert listed.stdout.splitlines() == ["in.xodr", "maps/a.xodr", "maps/sub/b.xodr"]
     assert [f["path"] for f in json.loads(linted.stdout)["files"]] == listed.stdout.splitlines()
 
 

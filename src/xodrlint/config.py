@@ -214,6 +214,27 @@ class Settings:
     def source_of(self, key: str) -> str:
         return self.sources.get(key, DEFAULT)
 
+    def ignored_in(self, path: Path | str) -> tuple[tuple[str, str], ...]:
+        """The ``per-file-ignores`` selectors that apply to ``path``, each with where it
+        was set: a local file, or the path part of a URL (``maps/a.xodr``), matched as it
+        stands (it lies below no local folder)."""
+        where = f"per-file-ignores in {self.config_file or 'the command line'}"
+        return tuple(
+            (selector, f"{where} ({glob})")
+            for glob, selectors in self.per_file_ignores
+            if (
+                any_match([glob], path, self.base)
+                if isinstance(path, Path)
+                else glob_matches(glob, path)
+            )
+            for selector in selectors
+        )
+
+    def excludes(self, path: Path) -> bool:
+        """Whether ``exclude`` leaves the local file ``path`` out (its globs are relative
+        to :attr:`base`), also a file named on the command line."""
+        return bool(self.exclude) and any_match(self.exclude, path, self.base)
+
     def as_rows(self) -> list[tuple[str, object, str]]:
         """(key, value, source) for ``xodrlint config``, in a stable order."""
         rows: list[tuple[str, object, str]] = [

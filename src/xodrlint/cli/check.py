@@ -3,9 +3,11 @@ report. The CLI hands over a :class:`CheckRequest` and gets an exit code back.""
 
 from __future__ import annotations
 
+import glob
+import os
 import time
-from collections.abc import Mapping
-from dataclasses import replace
+from array import array
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, NamedTuple
 
@@ -39,18 +41,8 @@ from xodrlint.cli.stream import (
     run_stream,
     stream_inputs,
 )
-from xodrlint.config import (
-    COMMAND_LINE,
-    DEFAULT_RULE_TIMEOUT,
-    MAX_FOUND_RULE_TIMEOUT,
-    ConfigError,
-    Settings,
-    find_config,
-    parse_size,
-    read_config,
-    settings_from,
-)
-from xodrlint.engine import Linter, LintOptions, SelectorError, select_rules
+from xodrlint.config import ConfigError, Settings, parse_size
+from xodrlint.engine import Linter, LintOptions, SelectorError
 from xodrlint.findings import NO_ENTRIES, FileReport, RunResult
 from xodrlint.formatters import (
     Formatter,
@@ -62,11 +54,13 @@ from xodrlint.formatters import (
 )
 from xodrlint.messages import one_line
 from xodrlint.output import STDOUT, error_line
+from xodrlint.profiles import Linters
 from xodrlint.registry import Registry
+from xodrlint.remote import is_url
+from xodrlint.resolver import Resolver
 from xodrlint.rule_options import (
     OptionError,
     command_line_options,
-    declared_options,
     resolve_rule_options,
 )
 from xodrlint.validation.sets import SCHEMA_PATH_ENV, SchemaFinder, SchemaLoadError
@@ -133,47 +127,27 @@ def resolve_settings(
     isolated: bool = False,
     overrides: Mapping[str, object] | None = None,
 ) -> Settings:
-    """The effective settings: the config file that governs the first path (or ``config``),
-    under the command line's ``overrides``."""
-    if isolated:
-        found = None
-    elif config is not None:
-        found = read_config(config)
-    else:
-        first = next((p for p in paths if p != STDIN), ".")
-        skipped: list[str] = []
-        found = find_config(Path(first), skipped)
-        for reason in skipped:
-            error_line(one_line(f"warning: {reason}"))
-    settings = settings_from(
-        found,
-        overrides or {},
-        rule_options=declared_options(registry),
-        known_codes=registry.by_code,
+    """The effective settings of the first of ``paths`` (a file or a folder; none: the
+    working folder), under the command line's ``overrides``: what ``xodrlint config``
+    shows, and what a check lints that path with."""
+    first = next((p for p in paths if p != STDIN), None)
+    resolver = Resolver(
+        registry,
+        overrides,
+        config=config,
+        isolated=isolated,
+        run_folder=run_folder(paths),
+        warn=_warn,
+        check=False,
     )
-    if found is not None and config is None:
-        settings = _limited(settings, found.path)
-    return settings
+    if first is None:
+        return resolver.run
+    path = Path(first)
+    return resolver.settings[resolver.profile_of(path, folder=path.is_dir())]
 
 
-def _limited(settings: Settings, found: Path) -> Settings:
-    """``settings`` with the rule time limit on, where a configuration found in a folder
-    turned it off (0) or set it past :data:`~xodrlint.config.MAX_FOUND_RULE_TIMEOUT`: the
-    limit is what stops a runaway rule (a pattern of that very file), and only the user's
-    own command line (``--rule-timeout``, or ``--config``) may lift it."""
-    timeout = settings.rule_timeout
-    if 0 < timeout <= MAX_FOUND_RULE_TIMEOUT or settings.source_of("rule-timeout") != str(found):
-        return settings
-    kept = DEFAULT_RULE_TIMEOUT if timeout == 0 else MAX_FOUND_RULE_TIMEOUT
-    asked = "0 (no limit)" if timeout == 0 else f"{timeout:g}"
-    error_line(
-        one_line(
-            f"warning: {found}: rule-timeout = {asked} is taken only from the command line "
-            f"or --config; rules keep a {kept:g} s limit"
-        )
-    )
-    sources = {**settings.sources, "rule-timeout": f"{found}, limited to {kept:g} s"}
-    return replace(settings, rule_timeout=kept, sources=sources)
+def _warn(message: str) -> None:
+    error_line(one_line(message))
 
 
 def _overrides(request: CheckRequest) -> dict[str, object]:
@@ -207,11 +181,24 @@ class _Plan(NamedTuple):
     """A check ready to lint: everything refused before linting has been."""
 
     settings: Settings
-    linter: Linter
+    linters: Linters
     formatter: Formatter
     extra: list[tuple[ExtraReport, Formatter]]
     inputs: list[Input]
     recorded: Counter[str] | None
+    resolver: Resolver
+    profiles: Sequence[int]
+    """Each input's profile (its configuration's), by input."""
+
+
+def _profile(resolver: Resolver, item: Input, stdin_filename: str | None) -> int:
+    """The profile ``item`` is linted under: a local file's nearest configuration's,
+    standard input's by ``--stdin-filename``, the run's for an object by URL."""
+    if item.is_stdin:
+        return resolver.profile_of(Path(stdin_filename)) if stdin_filename else 0
+    if item.path is not None and item.error is None:
+        return resolver.profile_of(item.path)
+    return 0
 
 
 def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
@@ -236,14 +223,14 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
         return 2
     if isinstance(plan, int):  # --show-files
         return plan
-    settings, linter, formatter, _, inputs, recorded = plan
+    settings, linters, formatter, _, inputs, recorded, _, _ = plan
     if request.verbose:
         from xodrlint.cli.verbose import describe_run
 
         readable = sum(1 for item in inputs if item.error is None)
-        codes = (rule.code for rule in linter.rules)
+        codes = (rule.code for rule in linters[0].rules)
         describe_run(settings, codes, readable, _jobs(request), request.scheduler)
-    source = _source(linter, settings, inputs, request)
+    source = _source(plan, request)
     streamed = None if request.write_baseline else streaming(formatter)
     try:
         if streamed is not None:
@@ -267,7 +254,8 @@ def _plan(registry: Registry, request: CheckRequest, formatter: Formatter | None
     """What the check lints and writes, each refused before linting when it cannot be
     (raising the errors :func:`run_check` makes one line of); ``--show-files`` is done
     here, and its exit code returned."""
-    settings, linter = prepare_linter(registry, request)
+    resolver = prepare_resolver(registry, request)
+    settings = resolver.run
     formatter = formatter or _formatter(settings.output_format, request, settings)
     extra = [
         (report, _formatter(report.format, request, settings, report.flag))
@@ -280,11 +268,13 @@ def _plan(registry: Registry, request: CheckRequest, formatter: Formatter | None
     check_stdin(request.paths, request.stdin_filename)
     check_scheduler(request.scheduler, request.scheduler_timeout, request.jobs)
     shard = parse_shard(request.shard) if request.shard is not None else None
-    inputs = collect(request.paths, settings)
+    inputs = collect(request.paths, settings, resolver, request.stdin_filename)
     if shard is not None:
         inputs = in_shard(inputs, shard, request.stdin_filename)
     if request.show_files:
         return show_files(inputs, request.stdin_filename)
+    # every file's configuration read (and refused) before any is linted
+    profiles = array("q", (_profile(resolver, item, request.stdin_filename) for item in inputs))
     read_only = (item.path for item in inputs if item.path is not None)
     check_outputs(
         request.output,
@@ -299,7 +289,8 @@ def _plan(registry: Registry, request: CheckRequest, formatter: Formatter | None
         from xodrlint.baseline import load_baseline
 
         recorded = load_baseline(request.baseline)
-    return _Plan(settings, linter, formatter, extra, inputs, recorded)
+    linters = Linters(resolver.options, first=_kept_linter(registry, resolver.options[0]))
+    return _Plan(settings, linters, formatter, extra, inputs, recorded, resolver, profiles)
 
 
 def _report(
@@ -307,7 +298,7 @@ def _report(
 ) -> int:
     """Write the reports of a run that kept them all: its report or statistics and every
     ``--report`` file, or the baseline; returns the exit code."""
-    settings, linter, formatter, extra, _, recorded = plan
+    settings, linters, formatter, extra, _, recorded, resolver, profiles = plan
     root = str(Path.cwd())
     for report in reports:
         if report.error:
@@ -326,7 +317,7 @@ def _report(
         __version__,
         notes=run_notes(reports, registry.metas),
         root=root,
-        selected=tuple(rule.code for rule in linter.rules),
+        selected=_selected(linters),
     )
     main = (
         statistics_renderer(settings.output_format, result)
@@ -343,7 +334,23 @@ def _report(
         # pre-commit's)
         say_notes(result.notes)
     _left_out(formatter, extra)
-    return exit_code(reports, settings.fail_on, request.exit_zero)
+    # each file fails the run by its own configuration's fail-on; the run's code is the
+    # largest of the files' (3 before 2 before 1 before 0)
+    return max(
+        (
+            exit_code((report,), resolver.settings[profile].fail_on, request.exit_zero)
+            for report, profile in zip(reports, profiles, strict=True)
+        ),
+        default=0,
+    )
+
+
+def _selected(linters: Linters) -> tuple[str, ...]:
+    """The codes of the rules the run applied to some file, in the registry's order."""
+    if len(linters) == 1:
+        return tuple(rule.code for rule in linters[0].rules)
+    codes = {rule.code for linter in linters.built() for rule in linter.rules}
+    return tuple(code for code in linters[0].registry.by_code if code in codes)
 
 
 def _left_out(formatter: Formatter, extra: list[tuple[ExtraReport, Formatter]]) -> None:
@@ -356,38 +363,61 @@ def _left_out(formatter: Formatter, extra: list[tuple[ExtraReport, Formatter]]) 
             error_line(f"warning: {report.flag}: {warning}")
 
 
-def prepare_linter(registry: Registry, request: CheckRequest) -> tuple[Settings, Linter]:
-    """The effective settings of ``request`` and a linter that applies them (``map`` lints
-    with exactly what ``check`` would). Raises the errors ``run_check`` reports as usage
-    errors: :class:`ConfigError`, :class:`SelectorError`, :class:`OptionError`,
-    :class:`UsageError`."""
+def prepare_resolver(registry: Registry, request: CheckRequest) -> Resolver:
+    """The configuration of each file of ``request`` and the run's own (profile 0).
+    Raises the errors ``run_check`` reports as usage errors: :class:`ConfigError`,
+    :class:`SelectorError`, :class:`OptionError`, :class:`UsageError`."""
     given = command_line_options(registry, request.rule_options)
     resolve_rule_options(registry, given)  # names and values the command line got
-    settings = resolve_settings(
-        registry,
-        request.paths,
-        config=request.config,
-        isolated=request.isolated,
-        overrides={**_overrides(request), **given},
-    )
-    return settings, _linter(registry, settings, request)
-
-
-def _linter(registry: Registry, settings: Settings, request: CheckRequest) -> Linter:
-    if settings.schema is not None and not settings.schema.exists():
-        source = settings.source_of("schema")
-        if source == COMMAND_LINE:
-            raise UsageError(f"--schema {settings.schema}: no such file or folder")
-        raise UsageError(f"schema {settings.schema} (from {source}): no such file or folder")
     for path in SchemaFinder().environment_paths():
         # a typo would fall back to the built-in schema: CI would lose full validation
         if not path.exists():
             raise UsageError(f"{SCHEMA_PATH_ENV} names {path}: no such file or folder")
-    for _, selectors in settings.per_file_ignores:
-        select_rules(registry, selectors, ())  # an entry that names no rule is an error
-    options = LintOptions.of(
-        settings, keep_source=request.show_source, keep_suppressed=request.show_suppressed
+    return Resolver(
+        registry,
+        {**_overrides(request), **given},
+        config=request.config,
+        isolated=request.isolated,
+        run_folder=run_folder(request.paths, request.stdin_filename),
+        warn=_warn,
+        keep_source=request.show_source,
+        keep_suppressed=request.show_suppressed,
     )
+
+
+def run_folder(paths: Sequence[str], stdin_filename: str | None = None) -> Path:
+    """The folder whose configuration gives a run's own settings: the deepest that holds
+    every local path it lints (a glob's up to its first wildcard, standard input's at
+    ``--stdin-filename``), so the order of the paths never matters and one path's run
+    is governed by that path's configuration; the working folder when none is local."""
+    local = [
+        Path(_before_wildcards(path)).absolute()
+        for path in (*paths, *((stdin_filename,) if stdin_filename else ()))
+        if path != STDIN and not is_url(path)
+    ]
+    if not local:
+        return Path.cwd()
+    return Path(os.path.commonpath(local)) if len(local) > 1 else local[0]
+
+
+def _before_wildcards(path: str) -> str:
+    if not glob.has_magic(path):
+        return path
+    parts = Path(path).parts
+    plain = next(i for i, part in enumerate(parts) if glob.has_magic(part))
+    return str(Path(*parts[:plain])) if plain else "."
+
+
+def prepare_linter(registry: Registry, request: CheckRequest) -> tuple[Settings, Linter]:
+    """The settings and a linter for the first path of ``request`` (``map`` lints its
+    file with exactly what ``check`` would). Raises as :func:`prepare_resolver`."""
+    resolver = prepare_resolver(registry, request)
+    first = next((p for p in request.paths if p != STDIN), None)
+    profile = resolver.profile_of(Path(first)) if first is not None else 0
+    return resolver.settings[profile], _kept_linter(registry, resolver.options[profile])
+
+
+def _kept_linter(registry: Registry, options: LintOptions) -> Linter:
     # The command line exits without cleanup (cli.main): it never frees the last tree,
     # nor the linter holding it, which outlives the run in this slot (one linter at most,
     # for a process that runs many checks).
@@ -420,14 +450,21 @@ def _formatter(
         ) from None
 
 
-def _source(
-    linter: Linter, settings: Settings, inputs: list[Input], request: CheckRequest
-) -> Source:
+def _source(plan: _Plan, request: CheckRequest) -> Source:
     jobs = _jobs(request)
-    engine: Engine = scheduler_engine(linter.options, request) or (
-        lambda tasks: stream_tasks(linter, tasks, jobs, progress=True)
+    linters = plan.linters
+    engine: Engine = scheduler_engine(linters.options, request) or (
+        lambda tasks: stream_tasks(linters, tasks, jobs, progress=True)
     )
-    return Source(linter, settings, inputs, engine, request.stdin_filename)
+    return Source(
+        linters,
+        plan.settings,
+        plan.inputs,
+        engine,
+        request.stdin_filename,
+        plan.resolver,
+        plan.profiles,
+    )
 
 
 def _jobs(request: CheckRequest) -> int:

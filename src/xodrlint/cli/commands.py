@@ -583,7 +583,10 @@ def config_command(
         list[str] | None,
         typer.Argument(
             metavar="PATH...",
-            help="The paths a check would take (the first decides the config).",
+            help=(
+                "The file or folder whose settings to show (the first path given; "
+                "default: the working folder). Each file has its nearest configuration."
+            ),
         ),
     ] = None,
     config: Annotated[

@@ -12,10 +12,11 @@ from pathlib import Path
 from typing import Final, NamedTuple
 
 from xodrlint.api import STDIN, Input, collect_inputs, printable_path
-from xodrlint.config import Settings, any_match, glob_matches, too_large
+from xodrlint.config import Settings, glob_matches, too_large
 from xodrlint.messages import one_line, plural
 from xodrlint.output import error_line
 from xodrlint.remote import shown_url
+from xodrlint.resolver import Resolver
 
 
 class InputsError(ValueError):
@@ -31,14 +32,20 @@ def check_stdin(paths: Sequence[str], stdin_filename: str | None) -> None:
         raise InputsError(f"{STDIN} (standard input) is given more than once")
 
 
-def collect(paths: Sequence[str], settings: Settings) -> list[Input]:
+def collect(
+    paths: Sequence[str],
+    settings: Settings,
+    resolver: Resolver | None = None,
+    stdin_filename: str | None = None,
+) -> list[Input]:
     """What to lint; files a folder walk met but cannot lint (a FIFO, a device) are left
     out with a note on stderr, and a warning says when nothing at all is left (exit 0,
-    as ruff: an empty folder is no error)."""
+    as ruff: an empty folder is no error). A local file is left out by the ``exclude``
+    of its own configuration, found by ``resolver`` (without one: ``settings``')."""
     inputs = []
     found = collect_inputs(
         paths,
-        _excluder(settings),
+        _excluder(settings) if resolver is None else _file_excluder(resolver),
         settings.max_file_size,
         respect_gitignore=settings.respect_gitignore,
         exclude_url=_url_excluder(settings),
@@ -51,13 +58,23 @@ def collect(paths: Sequence[str], settings: Settings) -> list[Input]:
     if not inputs:
         named = " ".join(printable_path(shown_url(path)) for path in paths)
         error_line(f"warning: no .xodr files found under {named}")
+    # by name (standard input's from --stdin-filename), as ruff orders its files: the
+    # order of the paths never changes a report
+    inputs.sort(key=lambda item: _by_name(item, stdin_filename))
     return inputs
 
 
+def _by_name(item: Input, stdin_filename: str | None) -> tuple[str, ...]:
+    name = (stdin_filename or STDIN) if item.is_stdin else item.display
+    return tuple(name.replace(os.sep, "/").split("/"))
+
+
 def _excluder(settings: Settings) -> Callable[[Path], bool] | None:
-    if not settings.exclude:
-        return None
-    return lambda path: any_match(settings.exclude, path, settings.base)
+    return settings.excludes if settings.exclude else None
+
+
+def _file_excluder(resolver: Resolver) -> Callable[[Path], bool]:
+    return lambda path: resolver.settings_for(path).excludes(path)
 
 
 def _url_excluder(settings: Settings) -> Callable[[str], bool] | None:

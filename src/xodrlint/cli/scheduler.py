@@ -49,9 +49,10 @@ def check_scheduler(address: str | None, timeout: float | None, jobs: int | None
         raise SchedulerUsageError(f"--scheduler needs Dask, which is not installed: {INSTALL}")
 
 
-def scheduler_engine(options: LintOptions, request: CheckRequest) -> Engine | None:
+def scheduler_engine(options: Sequence[LintOptions], request: CheckRequest) -> Engine | None:
     """The engine of a ``--scheduler`` run (``None`` without one): each file's report
-    with its task's index, as the cluster completes it."""
+    with its task's index, as the cluster completes it; ``options`` are the run's
+    profiles' (:mod:`xodrlint.resolver`)."""
     address = request.scheduler
     if address is None:
         return None

@@ -23,12 +23,13 @@ from typing import TYPE_CHECKING, NamedTuple, TextIO, cast, overload
 from xodrlint.api import STDIN, Input, exit_code, os_reason
 from xodrlint.cli.inputs import read_stdin
 from xodrlint.cli.notes import NotApplied, run_notes, say_notes
-from xodrlint.config import Settings, any_match, glob_matches
+from xodrlint.config import Settings
 from xodrlint.engine import Linter
-from xodrlint.findings import FileReport, RuleMeta
+from xodrlint.findings import FileReport, RuleMeta, Severity
 from xodrlint.formatters import StreamingFormatter
 from xodrlint.messages import one_line
 from xodrlint.output import STDOUT, error_line, release, write_output
+from xodrlint.profiles import Linters
 from xodrlint.remote import url_path
 from xodrlint.workers.batch import Engine, Task, task_of
 
@@ -37,17 +38,38 @@ if TYPE_CHECKING:
 
     from xodrlint.cli.check import CheckRequest
     from xodrlint.cli.reports import ExtraReport
+    from xodrlint.resolver import Resolver
 
 
 class Source(NamedTuple):
-    """What a run lints and how: the inputs in order, the linter and its settings, the
-    engine for the files, and the name reported for standard input."""
+    """What a run lints and how: the inputs in order, the linters and the run's settings,
+    the engine for the files, and the name reported for standard input.
 
-    linter: Linter
+    A run whose files fall under several configurations has the ``resolver`` that found
+    them and each input's profile in ``profiles``; without them every input is linted
+    under ``settings`` by ``linter``."""
+
+    linter: Linter | Linters
     settings: Settings
     inputs: Sequence[Input]
     engine: Engine
     stdin_filename: str | None = None
+    resolver: Resolver | None = None
+    profiles: Sequence[int] = ()
+
+    def settings_of(self, index: int) -> Settings:
+        """The settings input ``index`` is linted under."""
+        if self.resolver is None or not self.profiles:
+            return self.settings
+        return self.resolver.settings[self.profiles[index]]
+
+    def profile_of(self, index: int) -> int:
+        return self.profiles[index] if self.profiles else 0
+
+    @property
+    def linters(self) -> Linters:
+        linter = self.linter
+        return linter if isinstance(linter, Linters) else Linters.of(linter)
 
 
 def stream_inputs(source: Source) -> Generator[tuple[int, FileReport], None, None]:
@@ -58,8 +80,9 @@ def stream_inputs(source: Source) -> Generator[tuple[int, FileReport], None, Non
     inputs, settings = source.inputs, source.settings
     reading = any(item.is_stdin for item in inputs)
     stdin, unreadable = read_stdin(settings.max_file_size) if reading else (b"", None)
-    tasks = _Tasks(inputs, settings)
+    tasks = _Tasks(source)
     others = deque(i for i, item in enumerate(inputs) if not _is_file(item))
+    linters = source.linters
 
     def other(index: int) -> FileReport:
         item = inputs[index]
@@ -69,8 +92,8 @@ def stream_inputs(source: Source) -> Generator[tuple[int, FileReport], None, Non
         if unreadable is not None:
             return FileReport(name, error=unreadable)
         named = source.stdin_filename is not None
-        external = per_file_ignores(settings, Path(name)) if named else ()
-        return source.linter.lint_bytes(stdin, name, external)
+        external = source.settings_of(index).ignored_in(Path(name)) if named else ()
+        return linters[source.profile_of(index)].lint_bytes(stdin, name, external)
 
     completed = source.engine(tasks)
     try:
@@ -98,9 +121,9 @@ class _Tasks(Sequence[Task]):
     for it: a run holds its inputs once (8 bytes a file more here), not a second list of
     tasks beside them."""
 
-    def __init__(self, inputs: Sequence[Input], settings: Settings) -> None:
-        self._inputs = inputs
-        self._settings = settings
+    def __init__(self, source: Source) -> None:
+        self._source = source
+        inputs = source.inputs
         self._positions = array("q", (i for i, item in enumerate(inputs) if _is_file(item)))
 
     def position(self, number: int) -> int:
@@ -119,29 +142,14 @@ class _Tasks(Sequence[Task]):
     def __getitem__(self, number: int | slice) -> Task | list[Task]:
         if isinstance(number, slice):
             return [self[i] for i in range(len(self))[number]]
-        item = self._inputs[self._positions[number]]
+        source = self._source
+        index = self._positions[number]
+        item = source.inputs[index]
         # an object by URL is read by its worker (this process only listed it); its
         # per-file-ignores match the path in its bucket
         where = url_path(item.url) if item.url is not None else cast("Path", item.path)
-        external = per_file_ignores(self._settings, where)
-        return task_of(item, external, self._settings.max_file_size)
-
-
-def per_file_ignores(settings: Settings, path: Path | str) -> tuple[tuple[str, str], ...]:
-    """The ``per-file-ignores`` selectors that apply to ``path``, each with where it was
-    set: a local file, or the path part of a URL (``maps/a.xodr``), matched as it stands
-    (it lies below no local folder)."""
-    where = f"per-file-ignores in {settings.config_file or 'the command line'}"
-    return tuple(
-        (selector, f"{where} ({glob})")
-        for glob, selectors in settings.per_file_ignores
-        if (
-            any_match([glob], path, settings.base)
-            if isinstance(path, Path)
-            else glob_matches(glob, path)
-        )
-        for selector in selectors
-    )
+        external = source.settings_of(index).ignored_in(where)
+        return task_of(item, external, source.settings.max_file_size, source.profile_of(index))
 
 
 class StreamingRefused(ValueError):
@@ -184,15 +192,16 @@ class Streamed(NamedTuple):
 def run_stream(source: Source, formatter: StreamingFormatter, run: Streamed) -> int:
     """Lint ``source`` and write each file's part of the report as it completes; the
     exit code is the one the whole run's reports would give."""
-    tally = _Tally(source.settings, run, source.linter.registry.metas)
+    tally = _Tally(run, source.linters[0].registry.metas)
     state = _Writing()
     started = time.perf_counter()
 
     def render(stream: TextIO) -> None:
         state.linting = True
         with contextlib.closing(stream_inputs(source)) as reports:
-            for _, report in reports:
-                stream = _write(formatter, tally.add(report), stream, run.output, state)
+            for index, report in reports:
+                kept = tally.add(report, source.settings_of(index).fail_on)
+                stream = _write(formatter, kept, stream, run.output, state)
         state.linting = False
 
     try:
@@ -250,8 +259,7 @@ class _Tally:
     one stand-in per version the built-in schema alone validated and the count of files
     some rules did not judge (for the notes)."""
 
-    def __init__(self, settings: Settings, run: Streamed, rules: Sequence[RuleMeta]) -> None:
-        self._settings = settings
+    def __init__(self, run: Streamed, rules: Sequence[RuleMeta]) -> None:
         self._run = run
         self._rules = rules
         self._not_applied = NotApplied()
@@ -261,9 +269,10 @@ class _Tally:
         self.linted = 0
         self.code = 0
 
-    def add(self, report: FileReport) -> FileReport:
-        """Count ``report`` and say on stderr what its file's line there says; returns it
-        without what the baseline withholds."""
+    def add(self, report: FileReport, fail_on: Severity) -> FileReport:
+        """Count ``report`` (whose file's configuration fails on ``fail_on``) and say on
+        stderr what its file's line there says; returns it without what the baseline
+        withholds."""
         if self._remaining is not None:
             from xodrlint.baseline import withhold_recorded
 
@@ -273,7 +282,7 @@ class _Tally:
             self.linted += 1
         # exit_code over all reports is the largest of each report's own: 3 before 2
         # before 1 before 0, and --exit-zero turns only findings to 0
-        own = exit_code((report,), self._settings.fail_on, self._run.exit_zero)
+        own = exit_code((report,), fail_on, self._run.exit_zero)
         self.code = max(self.code, own)
         self._not_applied.add(report)
         version = report.declared_version

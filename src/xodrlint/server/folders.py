@@ -15,7 +15,6 @@ from xodrlint.config import (
     ConfigError,
     ConfigFile,
     Settings,
-    any_match,
     config_folders,
     find_config,
     settings_from,
@@ -36,21 +35,12 @@ class Choice(NamedTuple):
     def excluded(self, path: Path) -> bool:
         """Whether the configuration's ``exclude`` leaves ``path`` out, as it does on the
         command line even for a file named there."""
-        return bool(self.settings.exclude) and any_match(
-            self.settings.exclude, path, self.settings.base
-        )
+        return self.settings.excludes(path)
 
     def external(self, path: Path) -> tuple[tuple[str, str], ...]:
         """The ``per-file-ignores`` selectors that apply to ``path``, as ``check`` applies
         them: (selector, where it was set)."""
-        settings = self.settings
-        where = f"per-file-ignores in {settings.config_file}"
-        return tuple(
-            (selector, f"{where} ({glob})")
-            for glob, selectors in settings.per_file_ignores
-            if any_match([glob], path, settings.base)
-            for selector in selectors
-        )
+        return self.settings.ignored_in(path)
 
 
 def _stamp(folder: Path) -> tuple[tuple[str, int], ...]:

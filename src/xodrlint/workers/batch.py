@@ -24,6 +24,7 @@ from xodrlint.config import DEFAULT_MAX_FILE_SIZE
 from xodrlint.engine import ExternalIgnores, Linter, LintOptions
 from xodrlint.findings import FileReport
 from xodrlint.output import interactive
+from xodrlint.profiles import Linters
 from xodrlint.registry import load_registry
 from xodrlint.validation.sets import SchemaLoadError
 from xodrlint.workers import background
@@ -53,13 +54,20 @@ class Task(NamedTuple):
     url: str | None = None
     size: int | None = None
     max_file_size: int = DEFAULT_MAX_FILE_SIZE
+    profile: int = 0
+    """The configuration the file falls under (:mod:`xodrlint.resolver`): which of the
+    run's linters lints it."""
 
 
 def task_of(
-    item: Input, external: ExternalIgnores = (), max_file_size: int = DEFAULT_MAX_FILE_SIZE
+    item: Input,
+    external: ExternalIgnores = (),
+    max_file_size: int = DEFAULT_MAX_FILE_SIZE,
+    profile: int = 0,
 ) -> Task:
-    """The task that lints ``item`` (one that is :attr:`~xodrlint.api.Input.lintable`):
-    a file, or an object by URL that its worker reads, at most ``max_file_size`` bytes."""
+    """The task that lints ``item`` (one that is :attr:`~xodrlint.api.Input.lintable`)
+    under ``profile``: a file, or an object by URL that its worker reads, at most
+    ``max_file_size`` bytes."""
     if item.url is not None:
         return Task(
             Path(item.url),
@@ -68,10 +76,11 @@ def task_of(
             url=item.url,
             size=item.size,
             max_file_size=max_file_size,
+            profile=profile,
         )
     if item.path is None:
         raise ValueError(f"{item.display}: not a file an engine lints")
-    return Task(item.path, item.display, external)
+    return Task(item.path, item.display, external, profile=profile)
 
 
 LintTask = Callable[[Task], FileReport]
@@ -103,18 +112,18 @@ SHARE_PER_MESSAGE: Final = 4
 #: microseconds, 64 small maps tens of milliseconds.
 MAX_FILES_PER_MESSAGE: Final = 64
 
-# The linter workers use. Forked workers inherit the parent's (with every schema it has
+# The linters workers use. Forked workers inherit the parent's (with every schema it has
 # compiled so far); spawned ones build their own in the pool's initializer.
-_WORKER: dict[str, Linter] = {}
+_WORKER: dict[str, Linters] = {}
 
 
-def _start_worker(options: LintOptions) -> None:
-    if "linter" not in _WORKER:
-        _WORKER["linter"] = Linter(load_registry(), options)
+def _start_worker(options: Sequence[LintOptions]) -> None:
+    if "linters" not in _WORKER:
+        _WORKER["linters"] = Linters(options, registry=load_registry())
 
 
 def lint_in_worker(task: Task) -> FileReport:
-    return lint_task(_WORKER["linter"], task)
+    return lint_task(_WORKER["linters"][task.profile], task)
 
 
 def lint_task(linter: Linter, task: Task) -> FileReport:
@@ -155,7 +164,7 @@ def default_jobs() -> int:
 
 
 def lint_tasks(
-    linter: Linter,
+    linter: Linter | Linters,
     tasks: Sequence[Task],
     jobs: int,
     *,
@@ -178,7 +187,7 @@ def in_order(stream: ReportStream, count: int) -> list[FileReport]:
 
 
 def stream_tasks(
-    linter: Linter,
+    linter: Linter | Linters,
     tasks: Sequence[Task],
     jobs: int,
     *,
@@ -187,28 +196,31 @@ def stream_tasks(
 ) -> Generator[tuple[int, FileReport], None, None]:
     """Each task's report with its index in ``tasks``, as soon as it is done: one by one
     in their order in this process, a message's worth at a time (largest files first)
-    from worker processes when ``jobs`` > 1."""
+    from worker processes when ``jobs`` > 1. Each task is linted by the linter of its
+    profile (one ``linter`` serves a run of one profile)."""
+    linters = linter if isinstance(linter, Linters) else Linters.of(linter)
     if not uses_workers(jobs, len(tasks)):
         with _Progress(len(tasks), enabled=progress) as bar:
             for index, task in enumerate(tasks):
-                yield index, lint_task(linter, task)
+                yield index, lint_task(linters[task.profile], task)
                 bar.advance()
         return
     # Compile the first file's schema here, once: forked workers inherit it. An object
     # by URL is read by its worker only (the client lists, never reads).
     if tasks[0].url is None:
-        linter.warm_up(tasks[0].path)
-    _WORKER["linter"] = linter
+        linters[tasks[0].profile].warm_up(tasks[0].path)
+    _WORKER["linters"] = linters
     everything = range(len(tasks))
+    options = linters.options
     # The collector of a forked worker walks every object it inherited, and touching one
     # copies its memory page: frozen, the parent's objects stay shared while the pool runs.
     gc.freeze()
     try:
-        pending = yield from _stream_pool(linter.options, tasks, everything, jobs, worker, progress)
+        pending = yield from _stream_pool(options, tasks, everything, jobs, worker, progress)
     finally:
         gc.unfreeze()
     for index in pending:  # each file of a chunk that broke a pool gets a worker alone
-        alone = yield from _stream_pool(linter.options, tasks, [index], 1, worker, False)
+        alone = yield from _stream_pool(options, tasks, [index], 1, worker, False)
         if alone:
             task = tasks[index]
             yield (
@@ -218,7 +230,7 @@ def stream_tasks(
 
 
 def _stream_pool(
-    options: LintOptions,
+    options: Sequence[LintOptions],
     tasks: Sequence[Task],
     indexes: Sequence[int],
     jobs: int,
@@ -269,7 +281,7 @@ def _can_fork_workers() -> bool:
 
 
 def _stream_executor(
-    options: LintOptions,
+    options: Sequence[LintOptions],
     chunks: list[list[int]],
     tasks: Sequence[Task],
     jobs: int,

@@ -38,9 +38,9 @@ from distributed.scheduler import KilledWorker
 from distributed.security import Security
 
 from xodrlint import __version__
-from xodrlint.engine import Linter, LintOptions, select_rules
+from xodrlint.engine import Linter, LintOptions
 from xodrlint.findings import FileReport
-from xodrlint.registry import load_registry
+from xodrlint.registry import Registry, load_registry
 from xodrlint.workers import background
 from xodrlint.workers.batch import Task, default_jobs, lint_task, schedule, task_size
 
@@ -60,48 +60,57 @@ class SchedulerError(Exception):
 
 
 class LinterPlugin(WorkerPlugin):
-    """One warm linter per worker process for one run, built from the run's options when
-    the worker joins (or when the run starts, on a worker already there)."""
+    """Warm linters per worker process for one run, one per profile (the configurations
+    the run's files fall under), built from the run's options when the worker joins (or
+    when the run starts, on a worker already there)."""
 
-    def __init__(self, options: LintOptions, rules: tuple[str, ...]) -> None:
-        self.options = options
-        self.rules = rules
-        """The codes of the rules the client's run selected: the worker's must be these."""
-        self.linter: Linter | None = None
+    def __init__(self, options: Sequence[LintOptions], rules: Sequence[tuple[str, ...]]) -> None:
+        self.options = tuple(options)
+        self.rules = tuple(rules)
+        """Each profile's rule codes in the client's run: the worker's must be these."""
+        self.linters: list[Linter] | None = None
         self.lock: threading.Lock | None = None
 
     def setup(self, worker: object) -> None:
         # beside other workers that keep every core busy: a thread of its own for each
         # file's validation would only add switches (as in batch's workers)
         os.environ[background.ENV] = "0"
-        schema = self.options.schema
-        if schema is not None and not schema.exists():  # else: the built-in, silently
-            raise RuntimeError(f"the schema {schema} is not there on the worker")
-        linter = Linter(load_registry(), self.options)
-        found = tuple(rule.code for rule in linter.rules)
-        if found != self.rules:  # other rule packs there: another report than --jobs's
-            lacking = sorted(set(self.rules) - set(found))
-            more = sorted(set(found) - set(self.rules))
-            raise RuntimeError(
-                "its rules differ from this run's"
-                + (f"; it lacks {', '.join(lacking)}" if lacking else "")
-                + (f"; it has {', '.join(more)} too" if more else "")
-            )
-        self.linter = linter
+        registry = load_registry()
+        linters = []
+        for options, rules in zip(self.options, self.rules, strict=True):
+            schema = options.schema
+            if schema is not None and not schema.exists():  # else: the built-in, silently
+                raise RuntimeError(f"the schema {schema} is not there on the worker")
+            linter = Linter(registry, options)
+            _same_rules(tuple(rule.code for rule in linter.rules), rules)
+            linters.append(linter)
+        self.linters = linters
         # a worker with several threads runs several tasks at once: they take turns,
         # as a linter is made for one caller at a time
         self.lock = threading.Lock()
 
 
+def _same_rules(found: tuple[str, ...], expected: tuple[str, ...]) -> None:
+    if found != expected:  # other rule packs there: another report than --jobs's
+        lacking = sorted(set(expected) - set(found))
+        more = sorted(set(found) - set(expected))
+        raise RuntimeError(
+            "its rules differ from this run's"
+            + (f"; it lacks {', '.join(lacking)}" if lacking else "")
+            + (f"; it has {', '.join(more)} too" if more else "")
+        )
+
+
 def lint_batch(plugin: str, tasks: Sequence[Task]) -> list[FileReport]:
-    """A task on a worker: ``tasks``' reports, in their order, with the linter of the
-    run's plugin (named ``plugin``)."""
+    """A task on a worker: ``tasks``' reports, in their order, each with the linter of
+    its profile in the run's plugin (named ``plugin``)."""
     worker = get_worker()
     found = worker.plugins.get(plugin)
-    if not isinstance(found, LinterPlugin) or found.linter is None or found.lock is None:
+    if not isinstance(found, LinterPlugin) or found.linters is None or found.lock is None:
         raise RuntimeError(f"worker {worker.address} has no linter for this run ({plugin})")
+    linters = found.linters
     with found.lock:
-        return [lint_task(found.linter, task) for task in tasks]
+        return [lint_task(linters[task.profile], task) for task in tasks]
 
 
 @contextmanager
@@ -296,7 +305,7 @@ def _started_cluster(workers: int, scratch: str, security: Security) -> LocalClu
 
 def lint_on_cluster(
     client: Client,
-    options: LintOptions,
+    options: LintOptions | Sequence[LintOptions],
     tasks: Sequence[Task],
     *,
     retries: int = DEFAULT_RETRIES,
@@ -309,14 +318,16 @@ def lint_on_cluster(
     # a worker's working folder is not this process's: each file by its absolute path
     # (its reports name it as it was given)
     tasks = [task._replace(path=task.path.absolute()) for task in tasks]
-    if options.schema is not None:
-        options = options._replace(schema=options.schema.absolute())
-    rules = tuple(
-        rule.code for rule in select_rules(load_registry(), options.select, options.ignore)
-    )
+    profiles = [options] if isinstance(options, LintOptions) else list(options)
+    profiles = [
+        each._replace(schema=each.schema.absolute()) if each.schema is not None else each
+        for each in profiles
+    ]
+    registry = load_registry()
+    rules = [_selected(registry, each) for each in profiles]
     plugin = f"xodrlint-{uuid.uuid4().hex}"
     try:
-        client.register_plugin(LinterPlugin(options, rules), name=plugin)
+        client.register_plugin(LinterPlugin(profiles, rules), name=plugin)
     except Exception as error:  # raised on a worker: its xodrlint is missing or another
         raise SchedulerError(
             f"the workers cannot build a linter ({error}): install this xodrlint, "
@@ -328,6 +339,12 @@ def lint_on_cluster(
         # a scheduler already gone takes the plugin with it: nothing is left to release
         with contextlib.suppress(OSError):
             client.unregister_worker_plugin(plugin)
+
+
+def _selected(registry: Registry, options: LintOptions) -> tuple[str, ...]:
+    """The codes of the rules a linter with ``options`` runs (XL001 with
+    ``warn_unused_suppressions``, as the linter adds it)."""
+    return tuple(rule.code for rule in Linter(registry, options).rules)
 
 
 def _lint_all(
