@@ -41,6 +41,9 @@ def isolated_schemas(
     monkeypatch.setenv("XODRLINT_CACHE_DIR", str(tmp_path_factory.mktemp("xodrlint-cache")))
     monkeypatch.delenv("XODRLINT_SCHEMA_PATH", raising=False)
     monkeypatch.delenv("XODRLINT_DEBUG", raising=False)
+    # a CI service's checkout folder would root the CI formats' paths there
+    monkeypatch.delenv("CI_PROJECT_DIR", raising=False)
+    monkeypatch.delenv("GITHUB_WORKSPACE", raising=False)
     yield data
 
 

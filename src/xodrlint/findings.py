@@ -371,6 +371,10 @@ class RunResult(NamedTuple):
     folder of the run."""
     selected: tuple[str, ...] | None = None
     """Codes of the rules that ran; ``None`` when not known (then all of them did)."""
+    baseline: str | None = None
+    """The name of the baseline file the run applied (``None``: none)."""
+    withheld: int = 0
+    """How many findings :attr:`baseline` withheld."""
 
     @property
     def findings(self) -> tuple[Finding, ...]:

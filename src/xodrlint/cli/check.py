@@ -26,9 +26,11 @@ from xodrlint.cli.reports import (
     OutputRefused,
     check_outputs,
     check_statistics_format,
+    checkout_root,
     parse_reports,
     report_renderer,
     statistics_renderer,
+    withheld_line,
     write_baseline,
     write_reports,
 )
@@ -49,6 +51,7 @@ from xodrlint.formatters import (
     available,
     carries_notes,
     get_formatter,
+    says_withheld,
     streaming,
     warnings_of,
 )
@@ -67,7 +70,7 @@ from xodrlint.validation.sets import SCHEMA_PATH_ENV, SchemaFinder, SchemaLoadEr
 from xodrlint.workers.batch import Engine, default_jobs, in_order, stream_tasks
 
 if TYPE_CHECKING:
-    from collections import Counter
+    from xodrlint.baseline import Baseline
 
 
 class CheckRequest(NamedTuple):
@@ -185,7 +188,7 @@ class _Plan(NamedTuple):
     formatter: Formatter
     extra: list[tuple[ExtraReport, Formatter]]
     inputs: list[Input]
-    recorded: Counter[str] | None
+    baseline: Baseline | None
     resolver: Resolver
     profiles: Sequence[int]
     """Each input's profile (its configuration's), by input."""
@@ -223,7 +226,7 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
         return 2
     if isinstance(plan, int):  # --show-files
         return plan
-    settings, linters, formatter, _, inputs, recorded, _, _ = plan
+    settings, linters, formatter, _, inputs, baseline, _, _ = plan
     if request.verbose:
         from xodrlint.cli.verbose import describe_run
 
@@ -234,7 +237,7 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
     streamed = None if request.write_baseline else streaming(formatter)
     try:
         if streamed is not None:
-            return run_stream(source, streamed, Streamed.of(request, recorded))
+            return run_stream(source, streamed, Streamed.of(request, baseline))
         started = time.perf_counter()
         reports = in_order(stream_inputs(source), len(inputs))
     except (SchemaLoadError, SchedulerUsageError) as error:
@@ -284,13 +287,13 @@ def _plan(registry: Registry, request: CheckRequest, formatter: Formatter | None
         settings.config_file,
         request.baseline,
     )
-    recorded = None
+    baseline = None
     if request.baseline is not None:
         from xodrlint.baseline import load_baseline
 
-        recorded = load_baseline(request.baseline)
+        baseline = load_baseline(request.baseline)
     linters = Linters(resolver.options, first=_kept_linter(registry, resolver.options[0]))
-    return _Plan(settings, linters, formatter, extra, inputs, recorded, resolver, profiles)
+    return _Plan(settings, linters, formatter, extra, inputs, baseline, resolver, profiles)
 
 
 def _report(
@@ -298,26 +301,31 @@ def _report(
 ) -> int:
     """Write the reports of a run that kept them all: its report or statistics and every
     ``--report`` file, or the baseline; returns the exit code."""
-    settings, linters, formatter, extra, _, recorded, resolver, profiles = plan
-    root = str(Path.cwd())
+    settings, linters, formatter, extra, _, baseline, resolver, profiles = plan
     for report in reports:
         if report.error:
             error_line(one_line(report.error))  # it names the file: escaped
         for crash in report.internal_errors:
             error_line(f"internal error: {crash}")
     if request.write_baseline is not None:  # every current finding, the baseline's too
-        return write_baseline(request.write_baseline, reports, root)
-    if recorded is not None:
+        return write_baseline(request.write_baseline, reports)
+    withheld = 0
+    if baseline is not None:
         from xodrlint.baseline import apply_baseline
 
-        reports = apply_baseline(reports, recorded, root, keep=request.show_suppressed)
+        unmatched = baseline.unmatched(r.path for r in reports if r.error is None)
+        if unmatched is not None:
+            error_line(f"warning: {one_line(unmatched)}")
+        reports, withheld = apply_baseline(reports, baseline, keep=request.show_suppressed)
     result = RunResult(
         tuple(reports),
         registry.metas,
         __version__,
         notes=run_notes(reports, registry.metas),
-        root=root,
+        root=checkout_root(),
         selected=_selected(linters),
+        baseline=None if baseline is None else baseline.path.name,
+        withheld=withheld,
     )
     main = (
         statistics_renderer(settings.output_format, result)
@@ -328,6 +336,8 @@ def _report(
     written += [(report.flag, report.path, report_renderer(f, result)) for report, f in extra]
     if not write_reports(written):
         return 2
+    if baseline is not None and (request.statistics or not says_withheld(formatter)):
+        error_line(withheld_line(baseline.path.name, withheld))
     if request.statistics or not carries_notes(formatter):
         # counts, or a report of findings only (concise, GitLab's, JUnit, XQAR): what was
         # not checked goes to stderr, after them (where both reach one log, as in

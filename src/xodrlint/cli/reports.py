@@ -217,12 +217,32 @@ def report_renderer(formatter: Formatter, result: RunResult) -> Render:
     return lambda stream: formatter.render(result, stream)
 
 
-def write_baseline(path: Path, reports: list[FileReport], root: str) -> int:
-    """``--write-baseline FILE``: every finding of ``reports`` recorded in ``path``;
-    returns the exit code (2 when a file could not be read, so was not recorded)."""
+def withheld_line(baseline: str, count: int) -> str:
+    """What a run whose report has no summary says on stderr of its baseline's work."""
+    return f"{baseline} withheld {plural(count, 'finding')} recorded in it"
+
+
+def checkout_root(environ: Mapping[str, str] = os.environ) -> str:
+    """The folder the CI formats (SARIF, GitLab's, GitHub's, JUnit) name paths relative
+    to, whatever folder the run starts in: the CI service's checkout (GitLab's
+    ``CI_PROJECT_DIR``, GitHub's ``GITHUB_WORKSPACE``) when set to a folder, else the top
+    of the git repository holding the working folder, else the working folder."""
+    for name in ("CI_PROJECT_DIR", "GITHUB_WORKSPACE"):
+        given = environ.get(name)
+        if given and Path(given).is_dir():
+            return str(Path(given).absolute())
+    here = Path.cwd()
+    top = next((folder for folder in (here, *here.parents) if (folder / ".git").exists()), here)
+    return str(top)
+
+
+def write_baseline(path: Path, reports: list[FileReport]) -> int:
+    """``--write-baseline FILE``: every finding of ``reports`` recorded in ``path``
+    (relative to its folder); returns the exit code (2 when a file could not be read, so
+    was not recorded)."""
     from xodrlint.baseline import baseline_document
 
-    document = baseline_document(reports, root)
+    document = baseline_document(reports, path)
     try:
         write_output(str(path), lambda stream: _dump(document, stream))
     except OSError as error:

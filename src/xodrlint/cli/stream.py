@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, NamedTuple, TextIO, cast, overload
 from xodrlint.api import STDIN, Input, exit_code, os_reason
 from xodrlint.cli.inputs import read_stdin
 from xodrlint.cli.notes import NotApplied, run_notes, say_notes
+from xodrlint.cli.reports import withheld_line
 from xodrlint.config import Settings
 from xodrlint.engine import Linter
 from xodrlint.findings import FileReport, RuleMeta, Severity
@@ -34,8 +35,7 @@ from xodrlint.remote import url_path
 from xodrlint.workers.batch import Engine, Task, task_of
 
 if TYPE_CHECKING:
-    from collections import Counter
-
+    from xodrlint.baseline import Baseline
     from xodrlint.cli.check import CheckRequest
     from xodrlint.cli.reports import ExtraReport
     from xodrlint.resolver import Resolver
@@ -169,20 +169,20 @@ def check_streamable(name: str, extra: Iterable[ExtraReport]) -> None:
 
 class Streamed(NamedTuple):
     """A streaming run's settings beside its source: where its output goes, what it
-    withholds (the baseline's remaining fingerprints) and what it says on stderr."""
+    withholds (the baseline) and what it says on stderr."""
 
     output: str | None
-    recorded: Counter[str] | None = None
+    baseline: Baseline | None = None
     keep_suppressed: bool = False
     exit_zero: bool = False
     verbose: bool = False
 
     @classmethod
-    def of(cls, request: CheckRequest, recorded: Counter[str] | None) -> Streamed:
-        """What ``request`` asks of a streaming run, ``recorded`` its baseline's."""
+    def of(cls, request: CheckRequest, baseline: Baseline | None) -> Streamed:
+        """What ``request`` asks of a streaming run, ``baseline`` the one it applies."""
         return cls(
             request.output,
-            recorded,
+            baseline,
             keep_suppressed=request.show_suppressed,
             exit_zero=request.exit_zero,
             verbose=request.verbose,
@@ -213,6 +213,11 @@ def run_stream(source: Source, formatter: StreamingFormatter, run: Streamed) -> 
         reason = "broken pipe" if isinstance(error, BrokenPipeError) else os_reason(error)
         error_line(f"{where}: cannot write: {reason}")
         return 2
+    baseline = run.baseline
+    if baseline is not None:
+        if tally.linted and baseline.recorded and not tally.matched:
+            error_line(f"warning: {one_line(baseline.matches_nothing())}")
+        error_line(withheld_line(baseline.path.name, tally.withheld))
     say_notes(tally.notes())  # after the last line, where both reach one log
     if run.verbose:
         from xodrlint.cli.verbose import describe_end
@@ -263,8 +268,9 @@ class _Tally:
         self._run = run
         self._rules = rules
         self._not_applied = NotApplied()
-        self._remaining = None if run.recorded is None else run.recorded.copy()
-        self._root = str(Path.cwd())
+        self._remaining = None if run.baseline is None else run.baseline.recorded.copy()
+        self.withheld = 0
+        self.matched = False  # whether the baseline is about a file linted so far
         self._builtin: dict[str | None, FileReport] = {}
         self.linted = 0
         self.code = 0
@@ -277,7 +283,12 @@ class _Tally:
             from xodrlint.baseline import withhold_recorded
 
             keep = self._run.keep_suppressed
-            report = withhold_recorded(report, self._remaining, self._root, keep=keep)
+            root = cast("Baseline", self._run.baseline).root
+            before = len(report.findings)
+            report = withhold_recorded(report, self._remaining, root, keep=keep)
+            self.withheld += before - len(report.findings)
+            if not self.matched and report.error is None:
+                self.matched = cast("Baseline", self._run.baseline).covers(report.path)
         if report.error is None:
             self.linted += 1
         # exit_code over all reports is the largest of each report's own: 3 before 2

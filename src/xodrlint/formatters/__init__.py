@@ -112,6 +112,12 @@ def carries_notes(formatter: Formatter) -> bool:
     return getattr(formatter, "carries_notes", False) is True
 
 
+def says_withheld(formatter: Formatter) -> bool:
+    """Whether ``formatter``'s report says how many findings the baseline withheld (a
+    ``says_withheld = True`` attribute); the command says it on stderr otherwise."""
+    return getattr(formatter, "says_withheld", False) is True
+
+
 def warnings_of(formatter: Formatter) -> tuple[str, ...]:
     """What ``formatter`` said its last render left out of the report, one line each.
 

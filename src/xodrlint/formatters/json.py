@@ -13,6 +13,7 @@ FORMAT_VERSION: Final = 1
 
 class JsonFormatter:
     carries_notes = True
+    says_withheld = True  # in its summary
 
     def __init__(self, *, show_source: bool = False, quiet: bool = False) -> None:
         del show_source, quiet  # the JSON document is always complete
@@ -52,13 +53,16 @@ def as_document(result: RunResult, *, findings: bool = True) -> dict[str, object
 
 def summary(result: RunResult) -> dict[str, object]:
     """The counts of a run (the report's ``summary``; ``--statistics`` gives it too)."""
-    return {
+    counts: dict[str, object] = {
         "files": len(result.reports),
         "files_with_findings": sum(1 for r in result.reports if r.findings),
         "unreadable_files": sum(1 for r in result.reports if r.error),
         "findings": len(result.findings),
         "by_severity": result.count_by_severity(),
     }
+    if result.baseline is not None:
+        counts["baseline"] = {"file": result.baseline, "withheld": result.withheld}
+    return counts
 
 
 def _file(report: FileReport) -> dict[str, object]:

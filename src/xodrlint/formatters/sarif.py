@@ -86,6 +86,7 @@ JsonObject = dict[str, Any]
 
 class SarifFormatter:
     carries_notes = True
+    says_withheld = True  # in the run's properties
 
     def __init__(
         self,
@@ -155,6 +156,8 @@ def as_sarif(result: RunResult, *, max_results: int = 0) -> JsonObject:
         "columnKind": "unicodeCodePoints",
         "properties": {"schemas": _schemas(result)},
     }
+    if result.baseline is not None:
+        run["properties"]["baseline"] = {"file": result.baseline, "withheld": result.withheld}
     not_applied = _rules_not_applied(result)
     if not_applied:
         run["properties"]["rulesNotApplied"] = not_applied

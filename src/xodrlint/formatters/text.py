@@ -54,6 +54,7 @@ def styled_console(stream: TextIO, color: str | None) -> Console:
 
 class TextFormatter:
     carries_notes = True
+    says_withheld = True  # its summary line
 
     def __init__(
         self, *, show_source: bool = False, quiet: bool = False, color: str | None = None
@@ -136,10 +137,11 @@ def _summary(result: RunResult) -> Text:
     counts = result.count_by_severity()
     total = sum(counts.values())
     unreadable = sum(1 for r in result.reports if r.error)
+    new = " new" if result.baseline is not None else ""
     if total == 0 and not unreadable:
-        text = Text(f"All checks passed: {plural(files, 'file')}, no findings.", style="green")
+        text = Text(f"All checks passed: {plural(files, 'file')}, no{new} findings", style="green")
     elif total == 0:
-        text = Text(f"No findings in {files - unreadable} of {plural(files, 'file')}.")
+        text = Text(f"No{new} findings in {files - unreadable} of {plural(files, 'file')}")
     else:
         # "info" is a mass noun: "2 info", as the map page says
         parts = ", ".join(
@@ -149,9 +151,12 @@ def _summary(result: RunResult) -> Text:
         )
         with_findings = sum(1 for r in result.reports if r.findings)
         text = Text(
-            f"Found {plural(total, 'finding')} ({parts}) "
-            f"in {with_findings} of {plural(files, 'file')}."
+            f"Found {plural(total, f'{new.strip()} finding'.strip())} ({parts}) "
+            f"in {with_findings} of {plural(files, 'file')}"
         )
+    if result.baseline is not None:  # what it took away belongs beside what is left
+        text.append(f"; {result.withheld} withheld by {result.baseline}")
+    text.append(".")
     if unreadable:
         text.append(f" {unreadable} could not be read.", style="red")
     return text
