@@ -95,7 +95,8 @@ def test_the_report_is_never_written_over_a_file_the_run_reads(tmp_path: Path, r
         args = ("--config", target)
     before = target.read_bytes()
     done = _xodrlint("check", *args, "-o", target, CLEAN)
-    _one_line_exit_2(done, f"is the {read if read == 'baseline' else 'config file'} this run reads")
+    what = "the baseline" if read == "baseline" else "a config file"
+    _one_line_exit_2(done, f"is {what} this run reads")
     assert target.read_bytes() == before
 
 

@@ -131,3 +131,62 @@ def test_the_language_server_lints_each_file_as_check_does(repo: Path) -> None:
         served = choice.linter.lint_path(path, external=choice.external(path))
         checked = run("check", "-f", "json", path)
         assert [f.code for f in served.findings] == [c for _, c in _findings(checked)]
+
+
+# -- what a review of the first version found ---------------------------------------------
+
+
+def test_a_rule_no_configuration_knows_is_refused_before_linting(repo: Path) -> None:
+    (repo / "b" / "xodrlint.toml").write_text('select = ["NOPE"]\n', "utf-8")
+    for jobs in ("1", "2"):
+        result = run("check", "-j", jobs, "a/a.xodr", "b/b.xodr")
+        assert result.exit_code == 2, result.output
+        assert result.stderr.splitlines() == [
+            f"xodrlint: {repo / 'b' / 'xodrlint.toml'}: 'select': 'NOPE' matches no rule "
+            "code, name or UID"
+        ]
+
+
+def test_a_file_named_two_ways_gets_one_report_whatever_the_order(repo: Path) -> None:
+    (repo / "b" / "link.xodr").symlink_to("../a/a.xodr")
+    forward = run("check", "-f", "json", "a/a.xodr", "b/link.xodr")
+    backward = run("check", "-f", "json", "b/link.xodr", "a/a.xodr")
+    assert forward.stdout == backward.stdout and forward.exit_code == backward.exit_code == 0
+
+
+def test_unnamed_standard_input_has_the_working_folders_configuration(repo: Path) -> None:
+    data = BROKEN.read_bytes()
+    alone = run("check", "-f", "json", "-", stdin=data)
+    beside = run("check", "-f", "json", "-", "a/a.xodr", stdin=data)
+    assert [c for p, c in _findings(beside) if p == "-"] == [c for _, c in _findings(alone)]
+    assert _findings(alone)
+
+
+def test_the_runs_folder_is_found_as_the_paths_are_written(
+    repo: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    (repo / "a" / "xodrlint.toml").write_text(A_CONFIG + 'output-format = "json"\n', "utf-8")
+    monkeypatch.chdir(repo / "a")
+    text = run("check", "a.xodr", "../b/b.xodr")  # the folder holding both is the top
+    assert not text.stdout.startswith("{") and "output-format applies" in text.stderr
+    (repo / "b" / "link.xodr").symlink_to("../a/a.xodr")
+    monkeypatch.chdir(repo)
+    linked = run("check", "b/link.xodr")  # b/'s, where the link is, not a/'s
+    assert not linked.stdout.startswith("{")
+
+
+def test_a_configuration_above_two_repositories_governs_neither(tmp_path: Path) -> None:
+    for name in ("r1", "r2"):
+        (tmp_path / name / ".git").mkdir(parents=True)
+        shutil.copy(TWO, tmp_path / name / "x.xodr")
+    (tmp_path / "xodrlint.toml").write_text('output-format = "json"\n', "utf-8")
+    result = run("check", tmp_path / "r1" / "x.xodr", tmp_path / "r2" / "x.xodr")
+    assert result.exit_code == 1 and not result.stdout.startswith("{"), result.output
+
+
+def test_no_report_overwrites_any_configuration_the_run_reads(repo: Path) -> None:
+    (repo / "b" / "xodrlint.toml").write_text('select = ["PT"]\n', "utf-8")
+    refused = run("check", "a", "b", "-o", "b/xodrlint.toml")
+    assert refused.exit_code == 2
+    assert "is a config file this run reads; refusing to overwrite it" in refused.stderr
+    assert (repo / "b" / "xodrlint.toml").read_text("utf-8") == 'select = ["PT"]\n'

@@ -83,14 +83,35 @@ def config_folders(start: Path) -> Iterator[Path]:
     folder = start.resolve()
     if not folder.is_dir():
         folder = folder.parent
-    try:
-        home: Path | None = Path.home().resolve()
-    except (RuntimeError, KeyError, OSError):  # no home known for this user
-        home = None
     for candidate in (folder, *folder.parents):
         yield candidate
-        if candidate == home or (candidate / ".git").exists():
+        if search_stops_at(candidate):
             return
+
+
+def search_stops_at(folder: Path) -> bool:
+    """Whether the search for configuration files ends at ``folder`` (resolved): a
+    repository's root, or the user's home."""
+    return folder == _home() or (folder / ".git").exists()
+
+
+def holds_config(folder: Path) -> bool:
+    """Whether ``folder`` holds a file of one of :data:`CONFIG_NAMES`."""
+    return any((folder / name).is_file() for name in CONFIG_NAMES)
+
+
+def _home() -> Path | None:
+    # looked up once per value of HOME (what Path.home reads): a run walks up from
+    # every folder it lints
+    return _resolved_home(os.environ.get("HOME"))
+
+
+@lru_cache(maxsize=4)
+def _resolved_home(_given: str | None) -> Path | None:
+    try:
+        return Path.home().resolve()
+    except (RuntimeError, KeyError, OSError):  # no home known for this user
+        return None
 
 
 def _repository_owner(last: Path) -> int | None:

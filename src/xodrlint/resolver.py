@@ -6,7 +6,7 @@ line's options on top; ``--config FILE`` (or ``--isolated``: none) for every fil
 A run's files fall into *profiles*, one per configuration file met, numbered in the
 order they were met: a task names its profile, and each engine's workers keep one linter
 per profile (:class:`~xodrlint.profiles.Linters`). Profile 0 is the run's own: the
-configuration of the folder that holds all its paths (``run_folder``), which also gives
+configuration of the folder that holds all its paths (``folders``), which also gives
 what belongs to the run rather than to a file (:data:`RUN_KEYS`: the output format,
 SARIF's result limit, whether walks respect ``.gitignore``, the file size limit), so
 the order of the paths never changes a report.
@@ -14,7 +14,8 @@ the order of the paths never changes a report.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+import os
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
 from typing import Final
@@ -26,11 +27,14 @@ from xodrlint.config import (
     ConfigError,
     ConfigFile,
     Settings,
+    config_folders,
     find_config,
+    holds_config,
     read_config,
+    search_stops_at,
     settings_from,
 )
-from xodrlint.engine import LintOptions, select_rules
+from xodrlint.engine import LintOptions, SelectorError, select_rules
 from xodrlint.registry import Registry
 from xodrlint.rule_options import declared_options
 
@@ -47,7 +51,7 @@ class Resolver:
         *,
         config: Path | None = None,
         isolated: bool = False,
-        run_folder: Path | None = None,
+        folders: Sequence[Path] = (),
         warn: Warn | None = None,
         keep_source: bool = False,
         keep_suppressed: bool = False,
@@ -72,8 +76,22 @@ class Resolver:
         elif config is not None:
             first = read_config(config)
         else:
-            first = self._found(run_folder or Path.cwd())
+            first = self._run_config(folders)
         self._add(first, limit=config is None)
+
+    def _run_config(self, folders: Sequence[Path]) -> ConfigFile | None:
+        """The configuration of the deepest folder holding all of ``folders`` (those of
+        the local paths a run lints; none: the working folder), when the search from one
+        of them reaches it: a folder above two repositories governs neither."""
+        if not folders:
+            return self._found(Path.cwd())
+        top = Path(os.path.commonpath(folders))  # absolute, as run_folders gives them
+        found = self._found(top)
+        if found is None or len(folders) == 1:
+            return found
+        home = found.path.parent.resolve()
+        reached = any(home in config_folders(folder) for folder in folders)
+        return found if reached else None
 
     @property
     def run(self) -> Settings:
@@ -86,12 +104,27 @@ class Resolver:
         :class:`ConfigError` for a configuration that cannot be used."""
         if self._fixed:
             return 0
-        if not folder:
-            path = path.parent
-        profile = self._by_folder.get(path)
+        return self._folder_profile(path if folder else path.parent)
+
+    def working_profile(self) -> int:
+        """The profile of what lies in no local folder (standard input without
+        ``--stdin-filename``, an object by URL): the working folder's."""
+        return self.profile_of(Path.cwd(), folder=True)
+
+    def _folder_profile(self, folder: Path) -> int:
+        # a folder without a configuration file of its own has its parent's: the walk up
+        # is done once per folder of a run, not once per folder below it
+        known = self._by_folder.get(folder)
+        if known is not None:
+            return known
+        real = folder.resolve()
+        profile = self._by_folder.get(real)
         if profile is None:
-            profile = self._add(self._found(path), limit=True)
-            self._by_folder[path] = profile
+            if real.parent != real and not holds_config(real) and not search_stops_at(real):
+                profile = self._folder_profile(real.parent)
+            else:
+                profile = self._add(self._found(real), limit=True)
+        self._by_folder[folder] = self._by_folder[real] = profile
         return profile
 
     def settings_for(self, path: Path) -> Settings:
@@ -170,8 +203,21 @@ RUN_KEYS: Final = {
 }
 
 
+#: The keys whose entries name rules, by the Settings field that holds them.
+_SELECTIONS: Final = {"select": "select", "extend-select": "extend_select", "ignore": "ignore"}
+
+
 def _check(registry: Registry, settings: Settings) -> None:
-    """Refuse, before linting, settings no file could be linted with."""
+    """Refuse, before linting, settings no file could be linted with; an entry of a
+    configuration file that names no rule is said with the file's name."""
+    found = str(settings.config_file) if settings.config_file is not None else None
+    for key, field in _SELECTIONS.items():
+        if found is not None and settings.source_of(key) == found:
+            try:
+                select_rules(registry, getattr(settings, field), ())
+            except SelectorError as error:
+                raise ConfigError(f"{found}: '{key}': {error}") from None
+    select_rules(registry, settings.selected, settings.ignore)  # the command line's
     if settings.schema is not None and not settings.schema.exists():
         source = settings.source_of("schema")
         if source == COMMAND_LINE:

@@ -139,7 +139,7 @@ def resolve_settings(
         overrides,
         config=config,
         isolated=isolated,
-        run_folder=run_folder(paths),
+        folders=run_folders(paths),
         warn=_warn,
         check=False,
     )
@@ -196,9 +196,12 @@ class _Plan(NamedTuple):
 
 def _profile(resolver: Resolver, item: Input, stdin_filename: str | None) -> int:
     """The profile ``item`` is linted under: a local file's nearest configuration's,
-    standard input's by ``--stdin-filename``, the run's for an object by URL."""
-    if item.is_stdin:
-        return resolver.profile_of(Path(stdin_filename)) if stdin_filename else 0
+    standard input's by ``--stdin-filename``, the working folder's for standard input
+    without one and for an object by URL."""
+    if item.is_stdin and stdin_filename:
+        return resolver.profile_of(Path(stdin_filename))
+    if item.is_stdin or item.url is not None:
+        return resolver.working_profile()
     if item.path is not None and item.error is None:
         return resolver.profile_of(item.path)
     return 0
@@ -284,7 +287,7 @@ def _plan(registry: Registry, request: CheckRequest, formatter: Formatter | None
         extra,
         request.write_baseline,
         read_only,
-        settings.config_file,
+        (each.config_file for each in resolver.settings if each.config_file is not None),
         request.baseline,
     )
     baseline = None
@@ -293,6 +296,7 @@ def _plan(registry: Registry, request: CheckRequest, formatter: Formatter | None
 
         baseline = load_baseline(request.baseline)
     linters = Linters(resolver.options, first=_kept_linter(registry, resolver.options[0]))
+    linters.built()  # each profile's rules and options refused here, not in a worker
     return _Plan(settings, linters, formatter, extra, inputs, baseline, resolver, profiles)
 
 
@@ -388,30 +392,31 @@ def prepare_resolver(registry: Registry, request: CheckRequest) -> Resolver:
         {**_overrides(request), **given},
         config=request.config,
         isolated=request.isolated,
-        run_folder=run_folder(request.paths, request.stdin_filename),
+        folders=run_folders(request.paths, request.stdin_filename),
         warn=_warn,
         keep_source=request.show_source,
         keep_suppressed=request.show_suppressed,
     )
 
 
-def run_folder(paths: Sequence[str], stdin_filename: str | None = None) -> Path:
-    """The folder whose configuration gives a run's own settings: the deepest that holds
-    every local path it lints (a glob's up to its first wildcard, standard input's at
-    ``--stdin-filename``), so the order of the paths never matters and one path's run
-    is governed by that path's configuration; the working folder when none is local."""
-    local = [
-        Path(_before_wildcards(path)).absolute()
-        for path in (*paths, *((stdin_filename,) if stdin_filename else ()))
-        if path != STDIN and not is_url(path)
-    ]
-    if not local:
-        return Path.cwd()
-    return Path(os.path.commonpath(local)) if len(local) > 1 else local[0]
+def run_folders(paths: Sequence[str], stdin_filename: str | None = None) -> list[Path]:
+    """The folders of the local paths a run lints (a file's, a folder itself, a glob's up
+    to its first wildcard, standard input's at ``--stdin-filename``), absolute and
+    normalised: the deepest folder holding them all gives the run's own settings, so the
+    order of the paths never matters and one path's run is governed by that path's
+    configuration."""
+    folders = []
+    for path in (*paths, *((stdin_filename,) if stdin_filename else ())):
+        if path == STDIN or is_url(path):
+            continue
+        # '..' taken away as written, without following links, as the paths are reported
+        local = Path(os.path.abspath(_before_wildcards(path)))  # noqa: PTH100
+        folders.append(local if local.is_dir() else local.parent)
+    return folders
 
 
 def _before_wildcards(path: str) -> str:
-    if not glob.has_magic(path):
+    if not glob.has_magic(path) or os.path.lexists(path):  # a name with '[' in it
         return path
     parts = Path(path).parts
     plain = next(i for i, part in enumerate(parts) if glob.has_magic(part))

@@ -15,7 +15,7 @@ from xodrlint.api import STDIN, Input, collect_inputs, printable_path
 from xodrlint.config import Settings, glob_matches, too_large
 from xodrlint.messages import one_line, plural
 from xodrlint.output import error_line
-from xodrlint.remote import shown_url
+from xodrlint.remote import is_url, shown_url
 from xodrlint.resolver import Resolver
 
 
@@ -43,12 +43,17 @@ def collect(
     as ruff: an empty folder is no error). A local file is left out by the ``exclude``
     of its own configuration, found by ``resolver`` (without one: ``settings``')."""
     inputs = []
+    url_settings = settings
+    if resolver is not None and any(is_url(path) for path in paths):
+        url_settings = resolver.settings[resolver.working_profile()]  # as they are linted
     found = collect_inputs(
-        paths,
+        # by name too: of a file named twice (a/x.xodr, and b/x.xodr linking to it), the
+        # name kept is the same whatever the order of the paths
+        sorted(paths, key=lambda path: _name_key(path, stdin_filename)),
         _excluder(settings) if resolver is None else _file_excluder(resolver),
         settings.max_file_size,
         respect_gitignore=settings.respect_gitignore,
-        exclude_url=_url_excluder(settings),
+        exclude_url=_url_excluder(url_settings),
     )
     for item in found:
         if item.skipped is not None:
@@ -65,7 +70,12 @@ def collect(
 
 
 def _by_name(item: Input, stdin_filename: str | None) -> tuple[str, ...]:
-    name = (stdin_filename or STDIN) if item.is_stdin else item.display
+    return _name_key(STDIN if item.is_stdin else item.display, stdin_filename)
+
+
+def _name_key(name: str, stdin_filename: str | None) -> tuple[str, ...]:
+    if name == STDIN:
+        name = stdin_filename or STDIN
     return tuple(name.replace(os.sep, "/").split("/"))
 
 

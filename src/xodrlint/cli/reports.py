@@ -68,14 +68,15 @@ def check_outputs(
     extra: Iterable[tuple[ExtraReport, object]],
     write_baseline: Path | None,
     inputs: Iterable[Path],
-    config_file: Path | None,
+    config_files: Iterable[Path],
     baseline: Path | None,
 ) -> None:
     """Refuse, before any linting, an output of a check that would overwrite what the
-    run reads or another output: its report (``output``) and ``extra`` reports, or the
-    baseline it writes instead (which may replace the baseline it reads)."""
+    run reads (its inputs, every configuration file it read) or another output: its
+    report (``output``) and ``extra`` reports, or the baseline it writes instead (which
+    may replace the baseline it reads)."""
     targets: list[tuple[str, str | None]]
-    read: dict[str, Path | None] = {"the config file": config_file}
+    read: list[tuple[str, Path | None]] = [("a config file", path) for path in config_files]
     extra = list(extra)
     if write_baseline is not None and (extra or output not in (None, STDOUT)):
         given = extra[0][0].flag if extra else f"--output {output}"
@@ -85,20 +86,20 @@ def check_outputs(
     else:
         targets = [(f"--output {output}", output)]
         targets += [(report.flag, report.path) for report, _ in extra]
-        read["the baseline"] = baseline
+        read.append(("the baseline", baseline))
     check_targets(targets, inputs, read)
 
 
 def check_targets(
     targets: Iterable[tuple[str, str | None]],
     inputs: Iterable[Path],
-    read: Mapping[str, Path | None],
+    read: Iterable[tuple[str, Path | None]],
 ) -> None:
     """Refuse, before any linting, an output that would overwrite an input or a file the
     run reads (``read``: what each is, e.g. "the baseline"), that is a folder or has no
     folder, or that two outputs share. ``targets`` pairs each output's flag (as errors
     name it) with its path (``None`` or ``-``: standard output)."""
-    inputs = list(inputs)
+    inputs, read = list(inputs), list(read)
     claimed: dict[object, str] = {}
     for flag, output in targets:
         if output in (None, STDOUT):
@@ -106,7 +107,7 @@ def check_targets(
         target = Path(output)
         if overwrites(target, inputs):
             raise OutputRefused(f"{flag}: is one of the inputs; refusing to overwrite it")
-        for what, path in read.items():
+        for what, path in read:
             if path is not None and overwrites(target, [path]):
                 raise OutputRefused(f"{flag}: is {what} this run reads; refusing to overwrite it")
         if target.is_dir():
