@@ -8,11 +8,13 @@ from typing import Final, TypeVar
 
 from lxml import etree
 
+from xodrlint.findings import RuleOption
 from xodrlint.model import non_finite
 from xodrlint.model.lane_profiles import S_TOLERANCE
 
 __all__ = [
     "S_TOLERANCE",
+    "S_TOLERANCE_OPTION",
     "below",
     "beyond",
     "degrees",
@@ -24,6 +26,19 @@ __all__ = [
 ]
 
 _T = TypeVar("_T")
+
+#: How far apart two s-coordinates or lengths may be and still count as the same: every
+#: rule that compares a position along a road with a road's ends or with another
+#: position reads it. 1e-6 m by default; data written to millimetres wants 0.0005 (a
+#: side track at s="34.898" on a road 34.898262 m long is at its end).
+S_TOLERANCE_OPTION: Final = RuleOption(
+    name="s-tolerance",
+    default=S_TOLERANCE,
+    description=(
+        "Largest difference between two s-coordinates or lengths that counts as none "
+        "(0.0005 for data rounded to millimetres)"
+    ),
+)
 
 _NONE: Final = "(none)"
 
@@ -76,9 +91,9 @@ def below(value: float, limit: float, places: int) -> str:
     return repr(value)
 
 
-def within(value: float, low: float, high: float) -> bool:
-    """``low <= value <= high`` with the catalogue's tolerance on both ends."""
-    return low - S_TOLERANCE <= value <= high + S_TOLERANCE
+def within(value: float, low: float, high: float, tolerance: float = S_TOLERANCE) -> bool:
+    """``low <= value <= high`` with ``tolerance`` (``s-tolerance``) on both ends."""
+    return low - tolerance <= value <= high + tolerance
 
 
 def later_duplicates(

@@ -33,6 +33,12 @@ Use instead:
   </station>
 ```
 
+## Options
+- `s-tolerance` (metres, default 1e-06): the largest difference between two
+  s-coordinates or lengths that counts as none; 0.0005 for data rounded to
+  millimetres. Configuration: `s-tolerance = 0.0005` in `[tool.xodrlint]`; command
+  line: `--rule-option s-tolerance=0.0005`.
+
 ## Related rules
 ST003 reports a segment on an unknown road; ST004 cannot judge that one. ST005 and ST006
 report reversed and empty segments, which are separate defects.
@@ -48,8 +54,8 @@ from collections.abc import Iterator
 
 from xodrlint.findings import Hit, Severity
 from xodrlint.model import RailNetwork, non_finite
-from xodrlint.rules import rule
-from xodrlint.rules._shared import metres, quoted, within
+from xodrlint.rules import Settings, rule
+from xodrlint.rules._shared import S_TOLERANCE_OPTION, metres, quoted, within
 from xodrlint.rules.stations._walk import segments_with_platform
 
 
@@ -59,8 +65,10 @@ from xodrlint.rules.stations._walk import segments_with_platform
     uid="xodrlint:xodr:1.4.0:road.railroad.segment.s_in_road_range",
     severity=Severity.ERROR,
     defers_to=("ST003",),
+    options=(S_TOLERANCE_OPTION,),
 )
-def segment_s_out_of_range(network: RailNetwork) -> Iterator[Hit]:
+def segment_s_out_of_range(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
+    tolerance = S_TOLERANCE_OPTION.number(settings)
     for segment, platform in segments_with_platform(network):
         road = network.road_by_id.get(segment.road_id) if segment.road_id is not None else None
         if road is None:
@@ -72,7 +80,7 @@ def segment_s_out_of_range(network: RailNetwork) -> Iterator[Hit]:
                 if text is not None:
                     outside.append(f"{name}={text}")
                     written = True
-            elif road.length is not None and not within(value, 0.0, road.length):
+            elif road.length is not None and not within(value, 0.0, road.length, tolerance):
                 outside.append(f"{name}={metres(value)}")
         if not outside:
             continue

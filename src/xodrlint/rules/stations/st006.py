@@ -28,6 +28,12 @@ Use instead:
   </station>
 ```
 
+## Options
+- `s-tolerance` (metres, default 1e-06): the largest difference between two
+  s-coordinates or lengths that counts as none; 0.0005 for data rounded to
+  millimetres. Configuration: `s-tolerance = 0.0005` in `[tool.xodrlint]`; command
+  line: `--rule-option s-tolerance=0.0005`.
+
 ## Related rules
 ST005 reports segments that run backwards; ST004 reports segments off their road.
 
@@ -42,9 +48,8 @@ from collections.abc import Iterator
 
 from xodrlint.findings import Hit, Severity
 from xodrlint.model import RailNetwork
-from xodrlint.model.lane_profiles import S_TOLERANCE
-from xodrlint.rules import rule
-from xodrlint.rules._shared import metres, quoted
+from xodrlint.rules import Settings, rule
+from xodrlint.rules._shared import S_TOLERANCE_OPTION, metres, quoted
 from xodrlint.rules.stations._walk import segments_with_platform
 
 
@@ -53,11 +58,13 @@ from xodrlint.rules.stations._walk import segments_with_platform
     name="segment-zero-length",
     uid="xodrlint:xodr:1.4.0:road.railroad.segment.non_empty",
     severity=Severity.WARNING,
+    options=(S_TOLERANCE_OPTION,),
 )
-def segment_zero_length(network: RailNetwork) -> Iterator[Hit]:
+def segment_zero_length(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
+    tolerance = S_TOLERANCE_OPTION.number(settings)
     for segment, platform in segments_with_platform(network):
         start, end = segment.s_start, segment.s_end
-        if start is not None and end is not None and abs(start - end) <= S_TOLERANCE:
+        if start is not None and end is not None and abs(start - end) <= tolerance:
             yield Hit(
                 segment.element,
                 f"segment of platform {quoted(platform.id)} has zero length "

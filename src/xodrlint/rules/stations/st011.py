@@ -34,6 +34,12 @@ Use instead:
   </station>
 ```
 
+## Options
+- `s-tolerance` (metres, default 1e-06): the largest difference between two
+  s-coordinates or lengths that counts as none; 0.0005 for data rounded to
+  millimetres. Configuration: `s-tolerance = 0.0005` in `[tool.xodrlint]`; command
+  line: `--rule-option s-tolerance=0.0005`.
+
 ## Related rules
 ST005 reports a reversed segment; ST011 still compares it by the range it covers. A
 segment with an end that is no finite number (`NaN`, `INF`) covers no range: ST004
@@ -51,9 +57,8 @@ from collections.abc import Iterator
 
 from xodrlint.findings import Hit, Severity
 from xodrlint.model import Platform, RailNetwork, Segment
-from xodrlint.model.lane_profiles import S_TOLERANCE
-from xodrlint.rules import rule
-from xodrlint.rules._shared import metres, quoted
+from xodrlint.rules import Settings, rule
+from xodrlint.rules._shared import S_TOLERANCE_OPTION, metres, quoted
 from xodrlint.rules.stations._walk import segments_with_platform
 
 _Span = tuple[float, float, int, Segment, Platform]
@@ -64,8 +69,10 @@ _Span = tuple[float, float, int, Segment, Platform]
     name="segments-overlap",
     uid="xodrlint:xodr:1.4.0:road.railroad.segment.no_overlap",
     severity=Severity.WARNING,
+    options=(S_TOLERANCE_OPTION,),
 )
-def segments_overlap(network: RailNetwork) -> Iterator[Hit]:
+def segments_overlap(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
+    tolerance = S_TOLERANCE_OPTION.number(settings)
     groups: dict[tuple[str, str], list[_Span]] = {}
     for order, (segment, platform) in enumerate(segments_with_platform(network)):
         start, end = segment.s_start, segment.s_end
@@ -73,7 +80,7 @@ def segments_overlap(network: RailNetwork) -> Iterator[Hit]:
             continue
         span = (min(start, end), max(start, end), order, segment, platform)
         groups.setdefault((segment.road_id, segment.side), []).append(span)
-    overlaps = [pair for spans in groups.values() for pair in _overlapping(spans)]
+    overlaps = [pair for spans in groups.values() for pair in _overlapping(spans, tolerance)]
     for earlier, later, amount in sorted(overlaps, key=lambda item: (item[1][2], item[0][2])):
         yield Hit(
             later[3].element,
@@ -84,16 +91,17 @@ def segments_overlap(network: RailNetwork) -> Iterator[Hit]:
         )
 
 
-def _overlapping(spans: list[_Span]) -> Iterator[tuple[_Span, _Span, float]]:
-    """Overlapping pairs (earlier, later in document order) by a sweep over s: the work is
-    proportional to the spans plus the overlaps, not to all pairs."""
+def _overlapping(spans: list[_Span], tolerance: float) -> Iterator[tuple[_Span, _Span, float]]:
+    """Pairs overlapping by more than ``tolerance`` (earlier, later in document order), by
+    a sweep over s: the work is proportional to the spans plus the overlaps, not to all
+    pairs."""
     active: list[tuple[float, int, _Span]] = []  # a heap by end
     for span in sorted(spans, key=lambda item: (item[0], item[2])):
-        while active and active[0][0] <= span[0] + S_TOLERANCE:
+        while active and active[0][0] <= span[0] + tolerance:
             heapq.heappop(active)
         for _, _, other in active:
             amount = min(other[1], span[1]) - span[0]
-            if amount > S_TOLERANCE:
+            if amount > tolerance:
                 earlier, later = sorted((other, span), key=lambda item: item[2])
                 yield earlier, later, amount
         heapq.heappush(active, (span[1], span[2], span))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING
 
 from xodrlint.model import RailNetwork, Switch
@@ -14,24 +15,36 @@ SwitchPoints = tuple["TrackPoint", "TrackPoint"]
 
 
 class _EverySwitch:
-    """Each switch's track points, worked out once per file: SW011 and SW012 ask for the
-    same ones (a railway has thousands of switches)."""
+    """Each switch's track points, worked out once per file and ``s-tolerance``: SW011
+    and SW012 ask for the same ones (a railway has thousands of switches)."""
 
     def __init__(self, network: RailNetwork) -> None:
         # imported here: a file without switches never loads the plan-view geometry
         from xodrlint.geometry.tracks import TrackGeometry
 
-        tracks = network.shared(TrackGeometry)
-        self.points = [_points(network, tracks, switch) for switch in network.switches]
+        # no reference back to the network: a cycle would keep each file's model alive
+        # until a collection, where the engine frees it as soon as the file is done
+        self._tracks = network.shared(TrackGeometry)
+        self._points: dict[float, list[SwitchPoints | None]] = {}
+
+    def points(self, network: RailNetwork, tolerance: float) -> list[SwitchPoints | None]:
+        found = self._points.get(tolerance)
+        if found is None:
+            tracks = self._tracks
+            found = [_points(network, tracks, switch, tolerance) for switch in network.switches]
+            self._points[tolerance] = found
+        return found
 
 
-def switches_with_points(network: RailNetwork) -> list[tuple[Switch, SwitchPoints]]:
+def switches_with_points(
+    network: RailNetwork, tolerance: float
+) -> list[tuple[Switch, SwitchPoints]]:
     """Each switch with the main track's and the side track's track points at the switch,
-    leaving out a switch a bookkeeping rule reports (SW003 to SW006) or whose geometry
-    cannot be evaluated."""
+    leaving out a switch a bookkeeping rule reports (SW003 to SW006, under the
+    ``s-tolerance`` ``tolerance``) or whose geometry cannot be evaluated."""
     if not network.switches:
         return []
-    found = network.shared(_EverySwitch).points
+    found = network.shared(_EverySwitch).points(network, tolerance)
     return [
         (switch, points)
         for switch, points in zip(network.switches, found, strict=True)
@@ -39,10 +52,17 @@ def switches_with_points(network: RailNetwork) -> list[tuple[Switch, SwitchPoint
     ]
 
 
-def _points(network: RailNetwork, tracks: TrackGeometry, switch: Switch) -> SwitchPoints | None:
-    roads = usable_tracks(network, switch)
+def _points(
+    network: RailNetwork, tracks: TrackGeometry, switch: Switch, tolerance: float
+) -> SwitchPoints | None:
+    roads = usable_tracks(network, switch, tolerance)
     if roads is None or switch.main_track is None or switch.side_track is None:
         return None
-    main = tracks.point(roads[0], switch.main_track.s or 0.0)
-    side = tracks.point(roads[1], switch.side_track.s or 0.0) if main is not None else None
+    # a position within the tolerance past an end is at that end (data rounded to mm)
+    main = tracks.point(roads[0], _on(roads[0].length, switch.main_track.s))
+    side = tracks.point(roads[1], _on(roads[1].length, switch.side_track.s)) if main else None
     return (main, side) if main is not None and side is not None else None
+
+
+def _on(length: float | None, s: float | None) -> float:
+    return min(max(s or 0.0, 0.0), length if length is not None else math.inf)

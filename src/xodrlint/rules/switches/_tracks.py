@@ -6,7 +6,6 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from xodrlint.model import RailNetwork, Road, Switch, TrackRef
-from xodrlint.model.lane_profiles import S_TOLERANCE
 from xodrlint.rules._shared import metres, within
 
 
@@ -22,14 +21,14 @@ def named_road(network: RailNetwork, track: TrackRef) -> Road | None:
     return network.road_by_id.get(track.road_id) if track.road_id is not None else None
 
 
-def side_track_problem(road: Road, side: TrackRef) -> str | None:
+def side_track_problem(road: Road, side: TrackRef, tolerance: float) -> str | None:
     """Why ``side`` cannot be where its road begins or ends, pointing onto it (SW006's
-    words after "side track of switch 'ID' "), or ``None``. Silent when the road's length
-    or the position is unknown."""
+    words after "side track of switch 'ID' "), or ``None``; ``tolerance`` is the
+    ``s-tolerance``. Silent when the road's length or the position is unknown."""
     if road.length is None or side.s is None:
         return None
-    at_start = abs(side.s) <= S_TOLERANCE
-    at_end = abs(side.s - road.length) <= S_TOLERANCE
+    at_start = abs(side.s) <= tolerance
+    at_end = abs(side.s - road.length) <= tolerance
     if not at_start and not at_end:
         return (
             f"is at s={metres(side.s)} of road '{road.id}', not at its start (0) "
@@ -46,9 +45,12 @@ def side_track_problem(road: Road, side: TrackRef) -> str | None:
     return None
 
 
-def usable_tracks(network: RailNetwork, switch: Switch) -> tuple[Road, Road] | None:
+def usable_tracks(
+    network: RailNetwork, switch: Switch, tolerance: float
+) -> tuple[Road, Road] | None:
     """The main and side track roads of a switch that no bookkeeping rule reports (SW003,
-    SW004, SW005, SW006): the only switches whose geometry is worth judging."""
+    SW004, SW005, SW006, under the ``s-tolerance`` ``tolerance``): the only switches
+    whose geometry is worth judging."""
     main, side = switch.main_track, switch.side_track
     if main is None or side is None or main.s is None or side.s is None:
         return None
@@ -56,8 +58,8 @@ def usable_tracks(network: RailNetwork, switch: Switch) -> tuple[Road, Road] | N
     if main_road is None or side_road is None or main.road_id != switch.road.id:
         return None
     for track, road in ((main, main_road), (side, side_road)):
-        if road.length is None or not within(track.s or 0.0, 0.0, road.length):
+        if road.length is None or not within(track.s or 0.0, 0.0, road.length, tolerance):
             return None
-    if side_track_problem(side_road, side) is not None:
+    if side_track_problem(side_road, side, tolerance) is not None:
         return None
     return main_road, side_road

@@ -30,6 +30,12 @@ Use instead:
 </switch>
 ```
 
+## Options
+- `s-tolerance` (metres, default 1e-06): the largest difference between two
+  s-coordinates or lengths that counts as none; 0.0005 for data rounded to
+  millimetres. Configuration: `s-tolerance = 0.0005` in `[tool.xodrlint]`; command
+  line: `--rule-option s-tolerance=0.0005`.
+
 ## Related rules
 SW004 reports a track that names an unknown road; SW005 cannot judge that one. SW006
 stays silent on a side track SW005 reports.
@@ -46,8 +52,8 @@ from typing import Final
 
 from xodrlint.findings import Hit, Severity
 from xodrlint.model import RailNetwork, non_finite
-from xodrlint.rules import rule
-from xodrlint.rules._shared import metres, quoted, within
+from xodrlint.rules import Settings, rule
+from xodrlint.rules._shared import S_TOLERANCE_OPTION, metres, quoted, within
 from xodrlint.rules.switches._tracks import named_road, track_refs
 
 _AFTER_THE_SCHEMA: Final = ("SW004", "XS006")
@@ -59,8 +65,10 @@ _AFTER_THE_SCHEMA: Final = ("SW004", "XS006")
     uid="xodrlint:xodr:1.4.0:road.railroad.switch.s_in_road_range",
     severity=Severity.ERROR,
     defers_to=("SW004",),
+    options=(S_TOLERANCE_OPTION,),
 )
-def track_s_out_of_range(network: RailNetwork) -> Iterator[Hit]:
+def track_s_out_of_range(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
+    tolerance = S_TOLERANCE_OPTION.number(settings)
     for switch in network.switches:
         for kind, track in track_refs(switch):
             road = named_road(network, track)
@@ -79,7 +87,7 @@ def track_s_out_of_range(network: RailNetwork) -> Iterator[Hit]:
             elif (
                 road.length is not None
                 and track.s is not None
-                and not within(track.s, 0.0, road.length)
+                and not within(track.s, 0.0, road.length, tolerance)
             ):
                 yield Hit(
                     track.element,

@@ -31,6 +31,12 @@ Use instead:
 </switch>
 ```
 
+## Options
+- `s-tolerance` (metres, default 1e-06): the largest difference between two
+  s-coordinates or lengths that counts as none; 0.0005 for data rounded to
+  millimetres. Configuration: `s-tolerance = 0.0005` in `[tool.xodrlint]`; command
+  line: `--rule-option s-tolerance=0.0005`.
+
 ## Related rules
 SW004 (unknown road) and SW005 (s outside the road, or no finite number such as `INF`)
 report first; SW006 stays silent on a side track they report.
@@ -46,8 +52,8 @@ from collections.abc import Iterator
 
 from xodrlint.findings import Hit, Severity
 from xodrlint.model import RailNetwork
-from xodrlint.rules import rule
-from xodrlint.rules._shared import quoted
+from xodrlint.rules import Settings, rule
+from xodrlint.rules._shared import S_TOLERANCE_OPTION, quoted
 from xodrlint.rules.switches._tracks import named_road, side_track_problem
 
 
@@ -57,11 +63,17 @@ from xodrlint.rules.switches._tracks import named_road, side_track_problem
     uid="xodrlint:xodr:1.4.0:road.railroad.switch.side_track_at_end",
     severity=Severity.WARNING,
     defers_to=("SW004", "SW005"),
+    options=(S_TOLERANCE_OPTION,),
 )
-def side_track_not_at_end(network: RailNetwork) -> Iterator[Hit]:
+def side_track_not_at_end(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
+    tolerance = S_TOLERANCE_OPTION.number(settings)
     for switch in network.switches:
         side = switch.side_track
         road = named_road(network, side) if side is not None else None
-        problem = side_track_problem(road, side) if side is not None and road is not None else None
+        problem = (
+            side_track_problem(road, side, tolerance)
+            if side is not None and road is not None
+            else None
+        )
         if side is not None and problem is not None:
             yield Hit(side.element, f"side track of switch {quoted(switch.id)} {problem}")

@@ -37,6 +37,10 @@ Use instead:
 - `switch-tolerance` (metres, default 0.1): the largest distance allowed between the two
   track points. Configuration: `switch-tolerance = 0.1` in `[tool.xodrlint]`; command
   line: `--rule-option switch-tolerance=0.1`.
+- `s-tolerance` (metres, default 1e-06): the largest difference between two
+  s-coordinates or lengths that counts as none; 0.0005 for data rounded to
+  millimetres. Configuration: `s-tolerance = 0.0005` in `[tool.xodrlint]`; command
+  line: `--rule-option s-tolerance=0.0005`.
 
 ## Related rules
 SW003, SW004, SW005 and SW006 report a switch whose tracks name the wrong road, no road,
@@ -58,7 +62,7 @@ from typing import Final
 from xodrlint.findings import Hit, RuleOption, Severity
 from xodrlint.model import RailNetwork
 from xodrlint.rules import Settings, rule
-from xodrlint.rules._shared import S_TOLERANCE, beyond, metres, point, quoted
+from xodrlint.rules._shared import S_TOLERANCE, S_TOLERANCE_OPTION, beyond, metres, point, quoted
 from xodrlint.rules.switches._geometry import switches_with_points
 
 TOLERANCE: Final = RuleOption(
@@ -73,17 +77,18 @@ TOLERANCE: Final = RuleOption(
     name="switch-tracks-apart",
     uid="xodrlint:xodr:1.4.0:road.railroad.switch.tracks_meet",
     severity=Severity.ERROR,
-    options=(TOLERANCE,),
+    options=(TOLERANCE, S_TOLERANCE_OPTION),
 )
 def switch_tracks_apart(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
+    s_tolerance = S_TOLERANCE_OPTION.number(settings)
     tolerance = TOLERANCE.number(settings)
-    for switch, (main, side) in switches_with_points(network):
+    for switch, (main, side) in switches_with_points(network, s_tolerance):
         if switch.main_track is None or switch.side_track is None:
             continue
         distance = main.distance_to(side)
         if distance > tolerance + S_TOLERANCE:
             # SW006 holds: the side track's s is its road's start or end
-            begins = "starts" if abs(switch.side_track.s or 0.0) <= S_TOLERANCE else "ends"
+            begins = "starts" if abs(switch.side_track.s or 0.0) <= s_tolerance else "ends"
             yield Hit(
                 switch.side_track.element,
                 f"side track of switch {quoted(switch.id)} {begins} {beyond(distance, tolerance, 4)} m "

@@ -39,6 +39,10 @@ Use instead:
   command line: `--rule-option switch-angle=15`.
 - `switch-tolerance` (metres, default 0.1): shared with SW011; SW012 judges only switches
   whose track points are at most this far apart.
+- `s-tolerance` (metres, default 1e-06): the largest difference between two
+  s-coordinates or lengths that counts as none; 0.0005 for data rounded to
+  millimetres. Configuration: `s-tolerance = 0.0005` in `[tool.xodrlint]`; command
+  line: `--rule-option s-tolerance=0.0005`.
 
 ## Related rules
 SW003, SW004, SW005 and SW006 report a switch whose tracks cannot be judged; SW012 stays
@@ -60,7 +64,7 @@ from typing import Final
 from xodrlint.findings import Hit, RuleOption, Severity
 from xodrlint.model import RailNetwork
 from xodrlint.rules import Settings, rule
-from xodrlint.rules._shared import S_TOLERANCE, beyond, degrees, metres, quoted
+from xodrlint.rules._shared import S_TOLERANCE, S_TOLERANCE_OPTION, beyond, degrees, metres, quoted
 from xodrlint.rules.switches._geometry import switches_with_points
 from xodrlint.rules.switches.sw011 import TOLERANCE
 
@@ -77,14 +81,15 @@ ANGLE: Final = RuleOption(
     name="switch-direction-mismatch",
     uid="xodrlint:xodr:1.4.0:road.railroad.switch.directions_agree",
     severity=Severity.ERROR,
-    options=(ANGLE, TOLERANCE),
+    options=(ANGLE, TOLERANCE, S_TOLERANCE_OPTION),
 )
 def switch_direction_mismatch(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
+    s_tolerance = S_TOLERANCE_OPTION.number(settings)
     from xodrlint.geometry.tracks import turn_beyond
 
     limit = ANGLE.number(settings)
     apart = TOLERANCE.number(settings) + S_TOLERANCE
-    for switch, (main_point, side_point) in switches_with_points(network):
+    for switch, (main_point, side_point) in switches_with_points(network, s_tolerance):
         main, side = switch.main_track, switch.side_track
         if main is None or side is None or main.dir not in ("+", "-") or side.dir not in ("+", "-"):
             continue

@@ -32,6 +32,12 @@ Use instead:
   </planView>
 ```
 
+## Options
+- `s-tolerance` (metres, default 1e-06): the largest difference between two
+  s-coordinates or lengths that counts as none; 0.0005 for data rounded to
+  millimetres. Configuration: `s-tolerance = 0.0005` in `[tool.xodrlint]`; command
+  line: `--rule-option s-tolerance=0.0005`.
+
 ## Related rules
 TR014 reports a track whose plan view cannot be evaluated; TR009 stays silent on it. A
 `@length` that is missing or no number at all is the schema's (XS006). TR008 reports
@@ -50,8 +56,8 @@ from typing import TYPE_CHECKING, Final
 
 from xodrlint.findings import Hit, Severity
 from xodrlint.model import RailNetwork, non_finite
-from xodrlint.rules import rule
-from xodrlint.rules._shared import S_TOLERANCE, beyond, metres, quoted
+from xodrlint.rules import Settings, rule
+from xodrlint.rules._shared import S_TOLERANCE_OPTION, beyond, metres, quoted
 from xodrlint.rules.tracks._planview import track_plan_views
 
 if TYPE_CHECKING:
@@ -66,8 +72,10 @@ LENGTH_TOLERANCE: Final = 0.01
     name="track-length-mismatch",
     uid="xodrlint:xodr:1.4.0:road.railroad.track.length",
     severity=Severity.ERROR,
+    options=(S_TOLERANCE_OPTION,),
 )
-def track_length_mismatch(network: RailNetwork) -> Iterator[Hit]:
+def track_length_mismatch(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
+    tolerance = S_TOLERANCE_OPTION.number(settings)
     for road, view in track_plan_views(network):
         line = view.line
         if line is None:
@@ -83,7 +91,7 @@ def track_length_mismatch(network: RailNetwork) -> Iterator[Hit]:
                 )
             continue
         difference = abs(road.length - end)
-        if difference > LENGTH_TOLERANCE + S_TOLERANCE:
+        if difference > LENGTH_TOLERANCE + tolerance:
             yield Hit(
                 road.element,
                 f"track {quoted(road.id)} has length {metres(road.length)}, but "
