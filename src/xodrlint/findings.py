@@ -94,9 +94,10 @@ class Finding(NamedTuple):
     related: tuple[Location, ...] = ()
 
     @property
-    def sort_key(self) -> tuple[str, int, str, int, str]:
-        """Reports list findings by path, line and code (column and message break ties)."""
-        return (self.path, self.line, self.code, self.column or 0, self.message)
+    def sort_key(self) -> tuple[str, int, int, str, str]:
+        """Reports list findings by path, line and column (code and message break ties),
+        as an editor lists them."""
+        return (self.path, self.line, self.column or 0, self.code, self.message)
 
     def as_dict(self) -> dict[str, object]:
         return {

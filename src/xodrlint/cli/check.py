@@ -194,6 +194,18 @@ class _Plan(NamedTuple):
     """Each input's profile (its configuration's), by input."""
 
 
+def _source_shown(request: CheckRequest, output_format: str) -> None:
+    """Warn where ``--show-source`` shows nothing: only the text format's full report
+    prints the lines."""
+    if not request.show_source:
+        return
+    if request.statistics or output_format != "text":
+        where = "--statistics" if request.statistics else f"-f {output_format}"
+        error_line(f"warning: --show-source shows nothing with {where} (only -f text shows lines)")
+    elif request.quiet:
+        error_line("warning: --show-source shows nothing with -q (which prints findings only)")
+
+
 def _profile(resolver: Resolver, item: Input, stdin_filename: str | None) -> int:
     """The profile ``item`` is linted under: a local file's nearest configuration's,
     standard input's by ``--stdin-filename``, the working folder's for standard input
@@ -269,6 +281,7 @@ def _plan(registry: Registry, request: CheckRequest, formatter: Formatter | None
     ]
     if request.statistics:
         check_statistics_format(settings.output_format)
+    _source_shown(request, settings.output_format)
     if not request.write_baseline and streaming(formatter) is not None:
         check_streamable(settings.output_format, (report for report, _ in extra))
     check_stdin(request.paths, request.stdin_filename)

@@ -186,9 +186,12 @@ def _rows(result: RunResult) -> list[_Row]:
 
 
 def _statistics_table(result: RunResult, stream: TextIO) -> None:
-    for row in _rows(result):
+    rows = _rows(result)
+    for row in rows:
         severity = f"[{row.severity}]"
         stream.write(f"{row.findings:>6}  {row.code}  {severity:<9} {row.name or ''}\n")
+    if not rows:  # an empty table, not nothing: the run did count
+        stream.write(f"{0:>6}  findings\n")
 
 
 def _statistics_json(result: RunResult, stream: TextIO) -> None:

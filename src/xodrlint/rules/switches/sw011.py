@@ -94,5 +94,6 @@ def switch_tracks_apart(network: RailNetwork, settings: Settings) -> Iterator[Hi
                 f"side track of switch {quoted(switch.id)} {begins} {beyond(distance, tolerance, 4)} m "
                 f"from the switch point on road '{switch.main_track.road_id}' at "
                 f"s={metres(switch.main_track.s or 0.0)} "
-                f"({point(main.x, main.y)} and {point(side.x, side.y)})",
+                f"(main track at {point(main.x, main.y)}, side track at "
+                f"{point(side.x, side.y)})",
             )

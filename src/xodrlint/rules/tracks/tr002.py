@@ -57,7 +57,7 @@ from typing import Final
 from xodrlint.findings import Hit, RuleOption, Severity
 from xodrlint.model import RailNetwork
 from xodrlint.rules import Settings, rule
-from xodrlint.rules._shared import S_TOLERANCE, beyond, degrees
+from xodrlint.rules._shared import S_TOLERANCE, beyond
 from xodrlint.rules.tracks.tr001 import TOLERANCE, joint_gaps
 
 ANGLE: Final = RuleOption(
@@ -90,8 +90,8 @@ def track_link_kink(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
         if angle is not None:
             yield Hit(
                 joint.link.element,
-                f"{joint.describe()}: {lanes.first.describe()} meets "
-                f"{lanes.second.describe()} at an angle of "
-                f"{beyond(math.degrees(angle), limit, 2)} degrees: a train leaves at "
-                f"{degrees(leaving)} degrees and enters at {degrees(entering)} degrees",
+                f"{joint.describe()}: a train from {lanes.first.describe()} onto "
+                f"{lanes.second.describe()} turns by "
+                f"{beyond(math.degrees(angle), limit, 2)} degrees at the joint (at most "
+                f"{limit:g} allowed)",
             )
