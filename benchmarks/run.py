@@ -1,6 +1,6 @@
 """xodrlint against ``xmllint --noout --schema``, side by side, alternating and repeated.
 
-    python benchmarks/run.py --schemas ../shared/schemas [--repeat 5] [--workdir DIR]
+    python benchmarks/run.py --schemas path/to/asam-schemas [--repeat 5] [--workdir DIR]
                              [--only mixed|rail|findings|dask|all] [--size-mb 20]
                              [--roads 1000000] [--roads-timeout 900]
 
