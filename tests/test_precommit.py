@@ -63,7 +63,7 @@ def test_hook_passes_a_good_map_and_fails_a_bad_one(tmp_path: Path) -> None:
     for name in BAD:
         assert f"{name}:25:7: XS006 [error]" in bad.stdout
     # --quiet keeps the note that only railroad elements were validated, once; no summary
-    assert lines.count(f"note: {FULL_VALIDATION_NOTE}") == 1, bad.stdout
+    assert lines.count(f"xodrlint: note: {FULL_VALIDATION_NOTE}") == 1, bad.stdout
     assert not [line for line in lines if line.startswith(("Found ", "All checks passed"))]
 
 

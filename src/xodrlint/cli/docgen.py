@@ -46,7 +46,9 @@ FORMATS_EXAMPLE: Final = "examples/two-findings.xodr"
 #: How the formats page names the checkout, so the page is the same in every clone.
 SHOWN_ROOT: Final = "file:///path/to/checkout/"
 FORMAT_NOTES: Final = {
-    "text": "The default: for people at a terminal (colours only on a terminal).",
+    "text": "The default: for people at a terminal (colours only on a terminal). Standard "
+    "output holds the report; the run's notes (what was not checked) follow on standard "
+    "error, `xodrlint: note: ...`, as in every format that has no place for them.",
     "concise": "One line per finding, for editors and grep. The run's notes (what was not "
     "checked) go to standard error, `xodrlint: note: ...`.",
     "json": "xodrlint's own report; its schema is "

@@ -20,7 +20,7 @@ from typing import Final, TextIO
 from xodrlint import __version__
 from xodrlint.api import default_registry, exit_code
 from xodrlint.cli.check import CheckRequest, UsageError, prepare_linter
-from xodrlint.cli.notes import run_notes
+from xodrlint.cli.notes import run_notes, say_notes
 from xodrlint.config import ConfigError
 from xodrlint.document import Document, load_bytes
 from xodrlint.engine import SelectorError
@@ -160,6 +160,7 @@ def _print_report(registry: Registry, report: FileReport) -> None:
     )
     get_formatter("text").render(result, sys.stdout)
     sys.stdout.flush()
+    say_notes(result.notes)  # on stderr after the report, as check says them
 
 
 def _print_written(output: str, rendered: RenderedMap, seconds: float) -> None:

@@ -53,7 +53,9 @@ def styled_console(stream: TextIO, color: str | None) -> Console:
 
 
 class TextFormatter:
-    carries_notes = True
+    # the run's notes go to stderr, after the report (the command says them): standard
+    # output holds the report alone, as a file or a pipe wants it
+    carries_notes = False
     says_withheld = True  # its summary line
 
     def __init__(
@@ -70,12 +72,11 @@ class TextFormatter:
                 self._file(console, report)
         if not self.quiet:
             console.print(_summary(result))
-        # --quiet (the pre-commit hook) drops the summary and the file facts, not the
-        # run's notes: they say what was not checked (only railroad elements, against the
-        # built-in schema), which a passing hook must not hide.
-        notes = result.notes if self.quiet else (*result.notes, *_schema_notes(result))
-        for note in notes:
-            console.print(Text("note: ", style="bold") + Text(one_line(note)))
+            # the facts of files without findings, which have no header to say them
+            # (--quiet, the pre-commit hook, drops them with the summary); the run's
+            # notes, what was not checked, the command says on stderr either way
+            for note in _schema_notes(result):
+                console.print(Text("note: ", style="bold") + Text(one_line(note)))
 
     def _file(self, console: Console, report: FileReport) -> None:
         if not self.quiet:
