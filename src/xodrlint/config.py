@@ -219,6 +219,9 @@ class Settings:
     """Every rule option the rules declare, a plugin's too, with its default."""
     warn_unused_suppressions: bool = False
     all_versions: bool = False
+    xsd_scope: str = "all"
+    """``railroad``: schema errors (XS006) outside the railroad content are counted in a
+    note instead of listed (:class:`~xodrlint.engine.LintOptions`)."""
     """Apply every rule to every OpenDRIVE version, also those that apply only from a
     later version than a file declares (RL001, RL002 from 1.7)."""
     max_file_size: int = DEFAULT_MAX_FILE_SIZE
@@ -280,6 +283,7 @@ class Settings:
                 self.source_of("warn-unused-suppressions"),
             ),
             ("all-versions", self.all_versions, self.source_of("all-versions")),
+            ("xsd-scope", self.xsd_scope, self.source_of("xsd-scope")),
             ("max-file-size", format_size(self.max_file_size), self.source_of("max-file-size")),
             ("rule-timeout", self.rule_timeout, self.source_of("rule-timeout")),
         ]
@@ -305,6 +309,16 @@ def _severity(value: object) -> Severity:
     if isinstance(value, str) and value in {str(s) for s in Severity}:
         return Severity(value)
     raise TypeError("one of 'error', 'warning', 'info'")
+
+
+#: ``xsd-scope``: which schema errors a report lists.
+XSD_SCOPES: Final = ("all", "railroad")
+
+
+def _xsd_scope(value: object) -> str:
+    if isinstance(value, str) and value in XSD_SCOPES:
+        return value
+    raise TypeError("one of 'all', 'railroad'")
 
 
 def _text(value: object) -> str:
@@ -408,6 +422,7 @@ _READERS: Final[Mapping[str, _Reader]] = {
     "respect-gitignore": _boolean,
     "warn-unused-suppressions": _boolean,
     "all-versions": _boolean,
+    "xsd-scope": _xsd_scope,
     "max-file-size": parse_size,
     "rule-timeout": seconds,
 }
@@ -457,6 +472,7 @@ def settings_from(
         option_defaults={name: option.default for name, option in options.items()},
         warn_unused_suppressions=bool(values.get("warn-unused-suppressions", False)),
         all_versions=bool(values.get("all-versions", False)),
+        xsd_scope=str(values.get("xsd-scope", "all")),
         max_file_size=int(_get(values, "max-file-size", DEFAULT_MAX_FILE_SIZE)),
         rule_timeout=float(_get(values, "rule-timeout", DEFAULT_RULE_TIMEOUT)),
         base=base,

@@ -95,6 +95,11 @@ class LintOptions(NamedTuple):
     OpenDRIVE version than the file declares (``--all-versions``, ``all-versions =
     true``). Without it such a rule does not judge the file, and the file's report
     names it (:attr:`FileReport.rules_not_applied`)."""
+    xsd_scope: str = "all"
+    """``railroad``: a schema error (XS006) is listed only where it is about the railroad
+    content (a ``railroad`` element, a station, a road with a rail or tram lane, and
+    everything inside them, and the header); the others are counted
+    (:attr:`FileReport.schema_errors_hidden`). ``all`` lists every one."""
 
     @classmethod
     def of(
@@ -119,6 +124,7 @@ class LintOptions(NamedTuple):
             warn_unused_suppressions=settings.warn_unused_suppressions,
             rule_timeout=settings.rule_timeout or None,
             all_versions=settings.all_versions,
+            xsd_scope=settings.xsd_scope,
         )
 
 
@@ -358,8 +364,11 @@ class Linter:
             self._run(_applied(self._pack_rules, not_applied), network, doc, stamped, crashes)
             clock.lap("other packs' rules")
         schema_note = None
+        hidden = 0
         if check is not None:
             problems[SCHEMA_RULE] = list(check.hits)
+            if self.options.xsd_scope == "railroad":
+                problems[SCHEMA_RULE], hidden = _in_railroad_scope(check.hits, network)
             schema_label, builtin = check.schema.describe(), check.schema.is_builtin
             if doc.effective is not None and doc.declared is not None:
                 schema_note = check.schema.version_note(doc.declared, doc.effective)
@@ -387,6 +396,7 @@ class Linter:
             schema_note=schema_note,
             timings=clock.stop(),
             rules_not_applied=tuple(sorted(not_applied)),
+            schema_errors_hidden=hidden,
         )
 
     def _not_applied(self, doc: Document) -> frozenset[str]:
@@ -592,3 +602,27 @@ def _with_read_time(report: FileReport, read: float) -> FileReport:
 def _os_error(error: OSError, shown: str) -> str:
     reason = error.strerror or type(error).__name__
     return f"{shown}: cannot read: {reason[:1].lower()}{reason[1:]}"
+
+
+#: Elements whose schema errors ``xsd-scope = "railroad"`` lists, with all inside them.
+_RAILROAD_SCOPE: Final = frozenset({"railroad", "station", "header"})
+
+
+def _in_railroad_scope(hits: Iterable[Hit], network: RailNetwork) -> tuple[list[Hit], int]:
+    """The schema hits about the railroad content, and how many others there were: a hit
+    on or inside a ``railroad`` element, a station, the header, or a road with a rail or
+    tram lane; a hit on no element (the document itself) is kept."""
+    rail_roads = {road.element for road in network.rail_roads}
+    kept, hidden = [], 0
+    for hit in hits:
+        element = hit.element
+        inside = element is None or any(
+            node.tag in _RAILROAD_SCOPE or node in rail_roads
+            for node in (element, *element.iterancestors())
+            if isinstance(node.tag, str)
+        )
+        if inside:
+            kept.append(hit)
+        else:
+            hidden += 1
+    return kept, hidden

@@ -358,6 +358,9 @@ class FileReport(NamedTuple):
     """Codes of the selected rules that did not judge the file because it declares an
     OpenDRIVE version older than the one they apply from (:attr:`RuleMeta.since`),
     sorted; empty when every selected rule ran (or with ``--all-versions``)."""
+    schema_errors_hidden: int = 0
+    """Schema errors outside the railroad content that ``xsd-scope = "railroad"`` left
+    out of :attr:`findings` (the run's notes count them)."""
 
 
 class RunResult(NamedTuple):

@@ -104,6 +104,8 @@ class CheckRequest(NamedTuple):
     warn_unused_suppressions: bool | None = None
     all_versions: bool | None = None
     """``--all-versions``: every rule judges every file, whatever version it declares."""
+    xsd_scope: str | None = None
+    """``--xsd-scope``: ``all`` or ``railroad`` (which schema errors are listed)."""
     show_suppressed: bool = False
     sarif_max_results: int | None = None
     statistics: bool = False
@@ -166,6 +168,7 @@ def _overrides(request: CheckRequest) -> dict[str, object]:
         "respect-gitignore": request.respect_gitignore,
         "warn-unused-suppressions": request.warn_unused_suppressions,
         "all-versions": request.all_versions,
+        "xsd-scope": request.xsd_scope,
         "max-file-size": _max_file_size(request.max_file_size),
         "rule-timeout": request.rule_timeout,
     }

@@ -62,6 +62,18 @@ class _Command(TyperCommand):
         return pieces
 
 
+_XSD_SCOPE_HELP = (
+    "Which schema errors to list: all (the default), or railroad: only those about "
+    "railroad elements, stations, roads with a rail or tram lane and the header; the "
+    "others are counted in one note per file."
+)
+
+
+class XsdScope(StrEnum):
+    all = "all"
+    railroad = "railroad"
+
+
 class FailOn(StrEnum):
     error = "error"
     warning = "warning"
@@ -345,6 +357,12 @@ def check(
             rich_help_panel=_SELECTION,
         ),
     ] = None,
+    xsd_scope: Annotated[
+        XsdScope | None,
+        typer.Option(
+            "--xsd-scope", metavar="SCOPE", help=_XSD_SCOPE_HELP, rich_help_panel=_SELECTION
+        ),
+    ] = None,
     show_suppressed: Annotated[
         bool,
         typer.Option(
@@ -440,6 +458,7 @@ def check(
             write_baseline=write_baseline,
             warn_unused_suppressions=warn_unused_suppressions,
             all_versions=all_versions,
+            xsd_scope=str(xsd_scope) if xsd_scope is not None else None,
             show_suppressed=show_suppressed,
             sarif_max_results=sarif_max_results,
             statistics=statistics,
@@ -537,6 +556,9 @@ def map_command(
     all_versions: Annotated[
         bool | None, typer.Option("--all-versions", help="As for check.")
     ] = None,
+    xsd_scope: Annotated[
+        XsdScope | None, typer.Option("--xsd-scope", metavar="SCOPE", help="As for check.")
+    ] = None,
     rail_min_width: Annotated[
         float | None, typer.Option(metavar="METRES", help="As for check.")
     ] = None,
@@ -561,6 +583,7 @@ def map_command(
         config=config,
         isolated=isolated,
         all_versions=all_versions,
+        xsd_scope=str(xsd_scope) if xsd_scope is not None else None,
         rule_options=_rule_options(rule_option, rail_min_width, refline_tolerance),
     )
     raise typer.Exit(run_map(MapRequest(lint, output)))

@@ -35,7 +35,20 @@ def run_notes(reports: Iterable[FileReport], rules: Iterable[RuleMeta] = ()) -> 
     not_applied = NotApplied()
     for report in reports:
         not_applied.add(report)
-    return (*schema_notes(reports), *not_applied.notes(rules))
+    hidden = (note for report in reports if (note := hidden_note(report)) is not None)
+    return (*schema_notes(reports), *not_applied.notes(rules), *hidden)
+
+
+def hidden_note(report: FileReport) -> str | None:
+    """What ``xsd-scope = "railroad"`` left out of ``report``, one note per file."""
+    count = report.schema_errors_hidden
+    if not count:
+        return None
+    errors = "schema error" if count == 1 else "schema errors"
+    return (
+        f"{report.path}: {count:,} {errors} outside the railroad content not shown "
+        "(--xsd-scope all shows them)"
+    )
 
 
 def schema_notes(reports: list[FileReport]) -> tuple[str, ...]:

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, NamedTuple, TextIO, cast, overload
 
 from xodrlint.api import STDIN, Input, exit_code, os_reason
 from xodrlint.cli.inputs import read_stdin
-from xodrlint.cli.notes import NotApplied, run_notes, say_notes
+from xodrlint.cli.notes import NotApplied, hidden_note, run_notes, say_notes
 from xodrlint.cli.reports import withheld_line
 from xodrlint.config import Settings
 from xodrlint.engine import Linter
@@ -268,6 +268,7 @@ class _Tally:
         self._run = run
         self._rules = rules
         self._not_applied = NotApplied()
+        self._hidden: list[str] = []  # one note per file xsd-scope left errors out of
         self._remaining = None if run.baseline is None else run.baseline.recorded.copy()
         self.withheld = 0
         self.matched = False  # whether the baseline is about a file linted so far
@@ -296,6 +297,9 @@ class _Tally:
         own = exit_code((report,), fail_on, self._run.exit_zero)
         self.code = max(self.code, own)
         self._not_applied.add(report)
+        hidden = hidden_note(report)
+        if hidden is not None:
+            self._hidden.append(hidden)
         version = report.declared_version
         if report.schema_builtin and version not in self._builtin:
             self._builtin[version] = FileReport(
@@ -312,4 +316,8 @@ class _Tally:
         return report
 
     def notes(self) -> tuple[str, ...]:
-        return (*run_notes(self._builtin.values()), *self._not_applied.notes(self._rules))
+        return (
+            *run_notes(self._builtin.values()),
+            *self._not_applied.notes(self._rules),
+            *self._hidden,
+        )
