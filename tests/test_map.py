@@ -149,6 +149,20 @@ def test_a_file_that_is_no_opendrive_document_gets_findings_and_no_picture(
     assert not out.exists()
 
 
+def test_quiet_prints_the_findings_alone_and_exit_zero_exits_0(tmp_path: Path) -> None:
+    loud = cli("map", BROKEN, "-o", tmp_path / "loud.html", code=1)
+    quiet = cli("map", BROKEN, "-o", tmp_path / "quiet.html", "-q", "--exit-zero", code=0)
+    assert quiet.stdout.splitlines() == [
+        line for line in loud.stdout.splitlines() if " [error] " in line or " [warning] " in line
+    ]
+    assert len(quiet.stdout.splitlines()) == 6
+    assert "wrote" in loud.stderr and "wrote" not in quiet.stderr
+    assert (tmp_path / "quiet.html").read_bytes() == (tmp_path / "loud.html").read_bytes()
+    source = tmp_path / "bad.xodr"
+    source.write_text("<notOpenDRIVE/>", "utf-8")
+    cli("map", source, "-o", tmp_path / "bad.html", "--exit-zero", code=0)
+
+
 @pytest.mark.parametrize(
     ("args", "message"),
     [

@@ -20,7 +20,7 @@ from selenium.webdriver.remote.webdriver import WebDriver
 from selenium.webdriver.support.ui import WebDriverWait
 
 from .conftest import CORPUS_RAIL, REPO
-from .test_cli import BROKEN, cli
+from .test_cli import BROKEN, CLEAN, cli
 
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMEDRIVER = Path("/usr/bin/chromedriver")
@@ -147,6 +147,45 @@ def test_markers_selection_pan_zoom_search_and_screenshot(
     screenshot = tmp_path / "broken.png"
     assert browser.save_screenshot(str(screenshot))
     assert screenshot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def _shown(driver: WebDriver) -> tuple[list[str], int]:
+    """The codes of the rows shown, and how many markers are drawn."""
+    rows = driver.find_elements(By.CSS_SELECTOR, "#findings-table tbody tr")
+    codes = [row.find_element(By.TAG_NAME, "td").text for row in rows if row.is_displayed()]
+    markers = driver.find_elements(By.CSS_SELECTOR, "#map .finding")
+    return codes, sum(1 for marker in markers if marker.is_displayed())
+
+
+def test_findings_are_filtered_by_severity_and_rule(browser: WebDriver, tmp_path: Path) -> None:
+    _open(browser, BROKEN, tmp_path / "broken.html", code=1)
+    labels = [label.text for label in browser.find_elements(By.CSS_SELECTOR, "#filters label")]
+    assert labels == [
+        *["error (5)", "warning (1)", "info (0)"],
+        *["RL003 (1)", "ST004 (1)", "SW006 (1)", "XS006 (3)"],
+    ]
+    assert _shown(browser) == (["XS006", "XS006", "SW006", "RL003", "ST004", "XS006"], 6)
+    assert browser.find_element(By.ID, "filter-count").text == "showing all 6 findings"
+
+    browser.find_element(By.CSS_SELECTOR, '#rule-filter input[data-code="XS006"]').click()
+    assert _shown(browser) == (["SW006", "RL003", "ST004"], 3)
+    assert browser.find_element(By.ID, "filter-count").text == "showing 3 of 6 findings"
+    browser.find_element(By.CSS_SELECTOR, '#severity-filter input[data-severity="error"]').click()
+    assert _shown(browser) == (["SW006"], 1)  # the one warning
+    assert browser.find_element(
+        By.CSS_SELECTOR, '#severity-filter input[data-severity="info"]'
+    ).get_property("disabled")
+
+    browser.find_element(By.ID, "rules-none").click()
+    assert _shown(browser) == ([], 0)
+    browser.find_element(By.ID, "rules-all").click()
+    browser.find_element(By.CSS_SELECTOR, '#severity-filter input[data-severity="error"]').click()
+    assert _shown(browser) == (["XS006", "XS006", "SW006", "RL003", "ST004", "XS006"], 6)
+
+
+def test_a_clean_map_shows_no_filters(browser: WebDriver, tmp_path: Path) -> None:
+    _open(browser, CLEAN, tmp_path / "clean.html", code=0)
+    assert not browser.find_element(By.ID, "filters").is_displayed()
 
 
 def test_hovering_a_road_names_it(browser: WebDriver, tmp_path: Path) -> None:

@@ -568,6 +568,17 @@ def map_command(
     rule_option: Annotated[
         list[str] | None, typer.Option(metavar="NAME=VALUE", help="As for check.")
     ] = None,
+    exit_zero: Annotated[
+        bool, typer.Option("--exit-zero", help="Exit 0 even when there are findings.")
+    ] = False,
+    quiet: Annotated[
+        bool,
+        typer.Option(
+            "--quiet",
+            "-q",
+            help="Print findings only: no header, summary or 'wrote' line (notes stay).",
+        ),
+    ] = False,
 ) -> None:
     """Draw the network with every finding on it: a self-contained HTML page or an SVG."""
     from xodrlint.cli.check import CheckRequest
@@ -585,6 +596,8 @@ def map_command(
         all_versions=all_versions,
         xsd_scope=str(xsd_scope) if xsd_scope is not None else None,
         rule_options=_rule_options(rule_option, rail_min_width, refline_tolerance),
+        exit_zero=exit_zero,
+        quiet=quiet,
     )
     raise typer.Exit(run_map(MapRequest(lint, output)))
 

@@ -1,9 +1,11 @@
 """``xodrlint map FILE -o map.html|map.svg``: lint the file as ``check`` would, print the
 findings, and draw the network with every finding on it.
 
-Exit codes are ``check``'s: 0 nothing at or above ``--fail-on``, 1 findings, 2 usage or
-input errors (one line), 3 internal errors. A file that is not an OpenDRIVE document
-(XS001, XS002) gets its findings printed and no picture (exit 1).
+Exit codes are ``check``'s: 0 nothing at or above ``--fail-on`` (or ``--exit-zero``), 1
+findings, 2 usage or input errors (one line), 3 internal errors. A file that is not an
+OpenDRIVE document (XS001, XS002) gets its findings printed and no picture (exit 1).
+``--quiet`` prints the findings alone: no file header, summary or "wrote" line, as
+``check --quiet`` (the notes of what was not checked stay, on stderr).
 """
 
 from __future__ import annotations
@@ -74,13 +76,13 @@ def run_map(request: MapRequest) -> int:
     except (ConfigError, SelectorError, OptionError, UsageError, SchemaLoadError) as error:
         error_line(str(error))
         return 2
-    _print_report(registry, report)
+    _print_report(registry, report, quiet=request.check.quiet)
     # the tree and model the linter kept: a city map is not parsed and modelled twice
     kept = linter.last_document
     doc, network = (kept.document, kept.network) if kept else (load_bytes(data, report.path), None)
     if not doc.is_opendrive:
         error_line(f"no map written: {report.path} is not an OpenDRIVE document")
-        return 3 if report.internal_errors else 1
+        return exit_code([report], settings.fail_on, request.check.exit_zero)
     started = time.perf_counter()
     rendered = render_map(doc, report.findings, kind, request.tolerance, network)
     try:
@@ -88,8 +90,9 @@ def run_map(request: MapRequest) -> int:
     except OSError as error:
         error_line(f"--output {request.output}: cannot write: {error.strerror or error}")
         return 2
-    _print_written(request.output, rendered, time.perf_counter() - started)
-    return exit_code([report], settings.fail_on, exit_zero=False)
+    if not request.check.quiet:
+        _print_written(request.output, rendered, time.perf_counter() - started)
+    return exit_code([report], settings.fail_on, request.check.exit_zero)
 
 
 def render_map(
@@ -148,7 +151,7 @@ def _read(source: Path) -> bytes:
         raise UsageError(f"{source}: {reason[:1].lower()}{reason[1:]}") from None
 
 
-def _print_report(registry: Registry, report: FileReport) -> None:
+def _print_report(registry: Registry, report: FileReport, *, quiet: bool) -> None:
     for crash in report.internal_errors:
         error_line(f"internal error: {crash}")
     result = RunResult(
@@ -158,7 +161,7 @@ def _print_report(registry: Registry, report: FileReport) -> None:
         notes=run_notes([report], registry.metas),
         root=str(Path.cwd()),
     )
-    get_formatter("text").render(result, sys.stdout)
+    get_formatter("text", quiet=quiet).render(result, sys.stdout)
     sys.stdout.flush()
     say_notes(result.notes)  # on stderr after the report, as check says them
 

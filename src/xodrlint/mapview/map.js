@@ -184,8 +184,76 @@
     if (!centre) { row.scrollIntoView({ block: "nearest" }); }
   }
 
+  // ---- filters: by severity and by rule, each with its count -----------------------------
+  // A city map under the official schemas carries thousands of schema findings around a
+  // dozen railroad ones: unticking a rule hides its rows and its markers.
+  var shown = { severity: {}, code: {} };
+  var markers = [];
+
+  function thousands(n) { return String(n).replace(/\B(?=(\d{3})+(?!\d))/g, ","); }
+
+  function checkbox(group, kind, value, count) {
+    var label = document.createElement("label");
+    var box = document.createElement("input");
+    box.type = "checkbox";
+    box.checked = true;
+    box.disabled = count === 0;
+    box.setAttribute("data-" + kind, value);
+    shown[kind][value] = true;
+    box.addEventListener("change", function () {
+      shown[kind][value] = box.checked;
+      applyFilters();
+    });
+    label.appendChild(box);
+    label.appendChild(document.createTextNode(" " + value + " (" + thousands(count) + ")"));
+    if (count === 0) { label.className = "none"; }
+    group.appendChild(label);
+  }
+
+  function tickEveryRule(ticked) {
+    document.querySelectorAll("#rule-filter input").forEach(function (box) {
+      box.checked = ticked;
+      shown.code[box.getAttribute("data-code")] = ticked;
+    });
+    applyFilters();
+  }
+
+  function buildFilters() {
+    var bySeverity = { error: 0, warning: 0, info: 0 };
+    var byCode = {};
+    data.findings.forEach(function (f) {
+      bySeverity[f.severity] += 1;
+      byCode[f.code] = (byCode[f.code] || 0) + 1;
+    });
+    var severities = document.getElementById("severity-filter");
+    ["error", "warning", "info"].forEach(function (s) { checkbox(severities, "severity", s, bySeverity[s]); });
+    var rules = document.getElementById("rule-filter");
+    Object.keys(byCode).sort().forEach(function (code) { checkbox(rules, "code", code, byCode[code]); });
+    svg.querySelectorAll("#findings .finding").forEach(function (marker) {
+      markers[Number(marker.getAttribute("data-finding"))] = marker;
+    });
+    document.getElementById("rules-all").addEventListener("click", function () { tickEveryRule(true); });
+    document.getElementById("rules-none").addEventListener("click", function () { tickEveryRule(false); });
+    document.getElementById("filters").hidden = data.findings.length === 0;
+    applyFilters();
+  }
+
+  function applyFilters() {
+    var visible = 0;
+    data.findings.forEach(function (f, index) {
+      var on = shown.severity[f.severity] && shown.code[f.code];
+      rows[index].hidden = !on;
+      if (markers[index]) { markers[index].classList.toggle("filtered", !on); }
+      if (on) { visible += 1; }
+    });
+    var total = data.findings.length;
+    document.getElementById("filter-count").textContent = visible === total
+      ? "showing all " + counted(total, "finding", "findings")
+      : "showing " + thousands(visible) + " of " + counted(total, "finding", "findings");
+  }
+
   // "1 switch", "2 switches": a count and its noun, singular for one
-  function counted(n, one, many) { return n + " " + (n === 1 ? one : many); }
+  function counted(n, one, many) { return thousands(n) + " " + (n === 1 ? one : many); }
 
   function buildSummary() {
     var counts = { error: 0, warning: 0, info: 0 };
@@ -362,6 +430,7 @@
 
   // ---- start -----------------------------------------------------------------------------
   buildFindings();
+  buildFilters();
   buildSummary();
   render();
   var wanted = /^#finding=(\d+)$/.exec(window.location.hash);
