@@ -29,7 +29,7 @@ def _codes(select: tuple[str, ...], ignore: tuple[str, ...] = ()) -> list[str]:
 
 
 def test_selection_longest_match_wins_and_ignore_wins_ties() -> None:
-    assert _codes(("ALL",)) == ["XS001", "XS002", "XS003", "XS004", "XS005", "XS006"]
+    assert _codes(("ALL",)) == ["XS001", "XS002", "XS003", "XS004", "XS005", "XS006", "XS007"]
     assert _codes(("XS",), ("XS00",)) == []
     assert _codes(("XS006",), ("XS",)) == ["XS006"]
     assert _codes(("XS",), ("XS",)) == []

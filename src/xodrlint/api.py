@@ -113,11 +113,15 @@ def lint_bytes(
     schema: str | os.PathLike[str] | None = None,
     rule_options: Mapping[str, float | str] | None = None,
     all_versions: bool = False,
+    location: str | os.PathLike[str] | None = None,
 ) -> FileReport:
     """Lint the contents of a file; ``path`` is only the name findings carry (the
-    keywords as :func:`lint_file`'s)."""
+    keywords as :func:`lint_file`'s). ``location`` is the file the bytes stand for: the
+    document's ``include`` elements are read from its folder (without it, each is an
+    XS007 finding)."""
     linter = _linter_for(select, ignore, schema, rule_options, all_versions)
-    return linter.lint_bytes(data, path)
+    where = Path(location) if location is not None else None
+    return linter.lint_bytes(data, path, location=where)
 
 
 class Input(NamedTuple):

@@ -7,6 +7,7 @@ Everything that can go wrong while reading a file becomes a hit of a document ru
 from __future__ import annotations
 
 import re
+from collections.abc import Container
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Final, NamedTuple
@@ -59,11 +60,27 @@ class Version(NamedTuple):
 
 
 @dataclass(eq=False)
+class IncludedPart:
+    """A file an ``include`` brought into a document (:mod:`xodrlint.includes`): the name
+    its findings carry, its bytes, and the positions and XPaths of its elements in it."""
+
+    path: str
+    data: bytes
+    root: etree._Element
+    """Its root element as parsed (its children may stand in the document now)."""
+    positions: SourcePositions
+    xpaths: ReadableXPaths
+
+
+@dataclass(eq=False)
 class Document:
     """A loaded file: its bytes, its tree (if it parsed) and what loading found wrong.
 
     ``problems`` maps a document rule code to its hits. ``declared`` is the version the
     header states (if readable) and ``effective`` the published version it is checked as.
+    ``parts`` are the files its includes brought in; ``spliced`` maps each node an
+    include put into the tree (the top of what it brought) to its file. Positions and
+    XPaths of a node are those in its own file.
     """
 
     path: str
@@ -72,6 +89,8 @@ class Document:
     problems: dict[str, list[Hit]] = field(default_factory=dict)
     declared: Version | None = None
     effective: Version | None = None
+    parts: list[IncludedPart] = field(default_factory=list)
+    spliced: dict[etree._Element, IncludedPart] = field(default_factory=dict)
 
     @property
     def root(self) -> etree._Element | None:
@@ -86,18 +105,39 @@ class Document:
     def report(self, code: str, hit: Hit) -> None:
         self.problems.setdefault(code, []).append(hit)
 
+    def part_of(self, node: etree._Element) -> IncludedPart | None:
+        """The included file ``node`` comes from; ``None`` for the document's own."""
+        spliced = self.spliced
+        if not spliced:
+            return None
+        current: etree._Element | None = node
+        while current is not None:
+            part = spliced.get(current)
+            if part is not None:
+                return part
+            current = current.getparent()
+        return None
+
+    def path_of(self, node: etree._Element) -> str:
+        """The name of the file ``node`` stands in: the document's, or an included one's."""
+        part = self.part_of(node)
+        return self.path if part is None else part.path
+
     def line_of(self, element: etree._Element) -> int:
-        """The exact line of ``element``'s start tag (where its ``<`` stands)."""
-        return self._positions.line_of(element)
+        """The exact line of ``element``'s start tag (where its ``<`` stands), in its file."""
+        part = self.part_of(element)
+        return (self._positions if part is None else part.positions).line_of(element)
 
     def position_of(self, element: etree._Element) -> tuple[int, int | None]:
-        """The exact line and column (1-based, in characters) of ``element``'s ``<``; the
-        column is ``None`` where it cannot be known exactly (see
+        """The exact line and column (1-based, in characters) of ``element``'s ``<`` in
+        its file; the column is ``None`` where it cannot be known exactly (see
         :class:`~xodrlint.positions.SourcePositions`)."""
-        return self._positions.position_of(element)
+        part = self.part_of(element)
+        return (self._positions if part is None else part.positions).position_of(element)
 
     def source_line(self, line: int) -> str | None:
-        """The text of ``line`` (1-based), decoded as the document declares."""
+        """The text of ``line`` (1-based) of the document's own file, decoded as the
+        document declares."""
         lines = self._text_lines
         return lines[line - 1] if 0 < line <= len(lines) else None
 
@@ -111,15 +151,27 @@ class Document:
         return lines_of(text.lstrip("\ufeff"))
 
     def xpath_of(self, element: etree._Element) -> str:
-        return self._xpaths.path_of(element)
+        """The readable XPath of ``element`` in its file."""
+        part = self.part_of(element)
+        return (self._xpaths if part is None else part.xpaths).path_of(element)
 
-    def element_at(self, xpath: str) -> etree._Element | None:
-        """The element :meth:`xpath_of` names ``xpath``, found step by step through
+    def element_at(self, xpath: str, path: str | None = None) -> etree._Element | None:
+        """The element :meth:`xpath_of` names ``xpath`` in the file named ``path`` (one it
+        includes; any other name is the document's own), found step by step through
         indexed children: evaluating such an XPath scans every sibling its ``[@id=...]``
         predicate filters (10 ms per finding on a city map)."""
         if self.tree is None:
             return None
+        part = self.part_named(path)
+        if part is not None:
+            return part.xpaths.element_at(part.root, xpath)
         return self._xpaths.element_at(self.tree.getroot(), xpath)
+
+    def part_named(self, path: str | None) -> IncludedPart | None:
+        """The included file whose findings carry ``path``; ``None`` for any other name."""
+        if path is None or path == self.path:
+            return None
+        return next((part for part in self.parts if part.path == path), None)
 
     @cached_property
     def _positions(self) -> SourcePositions:
@@ -128,8 +180,14 @@ class Document:
         return SourcePositions(self.data, self.tree.getroot(), self.tree.docinfo.encoding)
 
     @cached_property
-    def _xpaths(self) -> _ReadableXPaths:
-        return _ReadableXPaths()
+    def _xpaths(self) -> ReadableXPaths:
+        return ReadableXPaths(self.spliced)
+
+    def fix_positions(self) -> None:
+        """Index the positions of the document's own nodes now, before includes add
+        nodes of other files to its tree (the index pairs the k-th node with the k-th
+        start tag of its bytes)."""
+        self._positions.index_comments()
 
 
 def load_bytes(data: bytes, path: str) -> Document:
@@ -151,7 +209,7 @@ def load_bytes(data: bytes, path: str) -> Document:
     doc.tree = root.getroottree()
     legacy = etree.QName(root).namespace
     if legacy in LEGACY_NAMESPACES:
-        _drop_legacy_namespace(root, legacy)
+        drop_legacy_namespace(root, legacy)
     if root.tag != "OpenDRIVE":
         doc.report("XS002", Hit(root, _root_message(root)))
         return doc
@@ -180,7 +238,7 @@ def _syntax_error_hit(data: bytes, error: etree.XMLSyntaxError, log: etree._List
 _LIBXML2_POSITION_SUFFIX: Final = re.compile(r",\s*line \d+, column \d+$")
 
 
-def _drop_legacy_namespace(root: etree._Element, namespace: str) -> None:
+def drop_legacy_namespace(root: etree._Element, namespace: str) -> None:
     """Rename elements of an earlier schema's namespace to their local names, on the tree
     only."""
     prefix = "{" + namespace + "}"
@@ -250,7 +308,7 @@ def nearest_published(version: Version) -> Version:
     return Version(1, minor)
 
 
-class _ReadableXPaths:
+class ReadableXPaths:
     """XPaths a person can read: id predicates where elements have ids, positions otherwise.
 
     A position is only added where siblings share the tag (and id), so that
@@ -258,7 +316,10 @@ class _ReadableXPaths:
     are added.
     """
 
-    def __init__(self) -> None:
+    def __init__(self, foreign: Container[etree._Element] = ()) -> None:
+        # nodes an include put into this tree belong to another file: they take no
+        # position among this file's siblings
+        self._foreign = foreign
         self._steps: dict[etree._Element, str] = {}
         self._children: dict[etree._Element, dict[str, etree._Element]] = {}
         # whole paths too: findings share their ancestors (a road's path is asked for by
@@ -303,7 +364,12 @@ class _ReadableXPaths:
 
     def _name_children(self, parent: etree._Element) -> None:
         """Name all children of ``parent`` at once, so each sibling group is scanned once."""
-        children = [(child, _local_name(child)) for child in parent.iterchildren(etree.Element)]
+        foreign = self._foreign
+        children = [
+            (child, _local_name(child))
+            for child in parent.iterchildren(etree.Element)
+            if child not in foreign
+        ]
         per_tag: dict[str, int] = {}
         per_id: dict[tuple[str, str], int] = {}
         for child, tag in children:

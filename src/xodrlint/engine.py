@@ -38,6 +38,7 @@ from xodrlint.findings import (
     Severity,
     Suppressed,
 )
+from xodrlint.includes import expand_includes, has_includes, unresolved
 from xodrlint.messages import one_line
 from xodrlint.model import RailNetwork, build_network
 from xodrlint.registry import Registry
@@ -51,9 +52,12 @@ from xodrlint.suppress import (
     unused_hits,
 )
 from xodrlint.validation.sets import Origin, SchemaFinder, SchemaLoadError
-from xodrlint.validation.validators import SchemaValidators
+from xodrlint.validation.validators import SchemaCheck, SchemaValidators
+from xodrlint.workers.background import Pending
 
 SCHEMA_RULE: Final = "XS006"
+#: Reports the includes that cannot be followed (:mod:`xodrlint.includes`).
+INCLUDE_RULE: Final = "XS007"
 #: Reports the suppression comments that withheld nothing: it runs after every other rule.
 UNUSED_SUPPRESSION: Final = "XL001"
 #: Findings of these rules mean the file is not an OpenDRIVE tree: nothing else runs.
@@ -286,7 +290,7 @@ class Linter:
         except OSError as error:
             return FileReport(shown, error=_os_error(error, shown))
         read = time.perf_counter() - started
-        return _with_read_time(self.lint_bytes(data, shown, external), read)
+        return _with_read_time(self.lint_bytes(data, shown, external, location=path), read)
 
     def lint_url(
         self,
@@ -323,13 +327,24 @@ class Linter:
         left none), if the linter was made to keep them."""
         return self._last_document
 
-    def lint_bytes(self, data: bytes, path: str, external: ExternalIgnores = ()) -> FileReport:
+    def lint_bytes(
+        self,
+        data: bytes,
+        path: str,
+        external: ExternalIgnores = (),
+        *,
+        location: Path | None = None,
+    ) -> FileReport:
         """Lint one document; ``external`` withholds codes in it from outside the file
-        (``per-file-ignores``): (selector, justification) pairs."""
+        (``per-file-ignores``): (selector, justification) pairs. ``location`` is the file
+        the bytes are (or stand for: an editor's unsaved buffer): its includes are read
+        from its folder. Without one, an include is an XS007 finding."""
         with _collector_paused(freeze=self._keep_last_document):
-            return self._lint_bytes(data, path, external)
+            return self._lint_bytes(data, path, external, location)
 
-    def _lint_bytes(self, data: bytes, path: str, external: ExternalIgnores) -> FileReport:
+    def _lint_bytes(
+        self, data: bytes, path: str, external: ExternalIgnores, location: Path | None
+    ) -> FileReport:
         if SCHEMA_RULE in self._codes:
             declared = _HEADER_VERSION.search(data, 0, WARM_UP_BYTES)
             if declared is not None:  # compiled while the document is parsed
@@ -348,7 +363,13 @@ class Linter:
         pending = self._validators.start(doc) if not fatal and SCHEMA_RULE in self._codes else None
         stamped: list[_Stamped] = []
         crashes: list[str] = []
-        validation_started = time.perf_counter()
+        validation = _Validation(pending, clock)
+        if not fatal and has_includes(doc):
+            # the schema judges each file as written, so it reads the tree before the
+            # included content joins it
+            validation.result()
+            problems[INCLUDE_RULE] = expand_includes(doc, location, DEFAULT_MAX_FILE_SIZE)
+            clock.lap("includes")
         not_applied = self._not_applied(doc)
         network = build_network(None if fatal else doc.root)
         clock.lap("model")
@@ -356,19 +377,16 @@ class Linter:
             self._last_document = LastDocument(doc, None if fatal else network)
         self._run(_applied(self._model_rules, not_applied), network, doc, stamped, crashes)
         clock.lap("rules")
-        check = pending.result() if pending is not None else None
-        if check is not None:  # its own time, or (a forked child's) until its result
-            clock.add("validation", check.seconds or time.perf_counter() - validation_started)
-        clock.lap("waiting for validation")
+        check = validation.result()
         if self._pack_rules:
             self._run(_applied(self._pack_rules, not_applied), network, doc, stamped, crashes)
             clock.lap("other packs' rules")
         schema_note = None
         hidden = 0
         if check is not None:
-            problems[SCHEMA_RULE] = list(check.hits)
+            problems[SCHEMA_RULE] = unresolved(check.hits, doc)
             if self.options.xsd_scope == "railroad":
-                problems[SCHEMA_RULE], hidden = _in_railroad_scope(check.hits, network)
+                problems[SCHEMA_RULE], hidden = _in_railroad_scope(problems[SCHEMA_RULE], network)
             schema_label, builtin = check.schema.describe(), check.schema.is_builtin
             if doc.effective is not None and doc.declared is not None:
                 schema_note = check.schema.version_note(doc.declared, doc.effective)
@@ -381,7 +399,8 @@ class Linter:
         source: dict[int, str] = {}
         if self.options.keep_source:
             for finding in findings:
-                text = doc.source_line(finding.line)
+                # the report keeps the lines of its own file (one included holds others)
+                text = doc.source_line(finding.line) if finding.path == path else None
                 if text is not None:
                     source[finding.line] = text
         return FileReport(
@@ -451,8 +470,10 @@ class Linter:
         not_applied: frozenset[str],
     ) -> tuple[list[Finding], list[Suppressed]]:
         # a map without the word has no suppression comment: skip walking its comments
-        directives = read_directives(doc.root) if may_hold_directives(doc.data) else []
-        suppressions = Suppressions(directives, self._selector_matches)
+        texts = (doc.data, *(part.data for part in doc.parts))
+        held = any(may_hold_directives(text) for text in texts)
+        directives = read_directives(doc.root) if held else []
+        suppressions = Suppressions(directives, self._selector_matches, doc.path_of)
         kept: list[Finding] = []
         withheld: list[Suppressed] = []
         self._withhold(stamped, suppressions, external, kept, withheld)
@@ -524,7 +545,7 @@ class Linter:
         if related:
             message += " at line " + ", ".join(str(location.line) for location in related)
         finding = Finding(
-            path=doc.path,
+            path=doc.path if hit.element is None else doc.path_of(hit.element),
             line=line,
             column=column,
             code=meta.code,
@@ -546,6 +567,26 @@ class _Stamped(NamedTuple):
 
 
 ExternalIgnores = Sequence[tuple[str, str]]
+
+
+class _Validation:
+    """The schema check under way beside the rules, waited for once."""
+
+    def __init__(self, pending: Pending[SchemaCheck | None] | None, clock: _StageClock) -> None:
+        self._pending = pending
+        self._clock = clock
+        self._started = time.perf_counter()
+        self._check: SchemaCheck | None = None
+
+    def result(self) -> SchemaCheck | None:
+        if self._pending is None:
+            return self._check
+        self._check = check = self._pending.result()
+        self._pending = None
+        if check is not None:  # its own time, or (a forked child's) until its result
+            self._clock.add("validation", check.seconds or time.perf_counter() - self._started)
+        self._clock.lap("waiting for validation")
+        return check
 
 
 class _StageClock:

@@ -217,7 +217,11 @@ class SourcePositions:
         found = _QNAME.match(text, offset + 1)
         return offset if name and found and found[0].rpartition(b":")[2] == name else None
 
-    def _comment_offset(self, node: etree._Comment) -> int | None:
+    def index_comments(self) -> None:
+        """Pair comments with their places now (see :meth:`_comment_offset`)."""
+        self._comment_offset(self._root)
+
+    def _comment_offset(self, node: etree._Element) -> int | None:
         """Where a comment's ``<!--`` stands: the k-th comment of the document, before its
         root, in it and after it, is the k-th the scan finds."""
         if self._comments is None:

@@ -95,9 +95,16 @@ def _next_element(comment: etree._Element) -> etree._Element | None:
 class Suppressions:
     """Answers "is this code withheld on this element?" for one document."""
 
-    def __init__(self, directives: list[Directive], matches: Matcher) -> None:
+    def __init__(
+        self,
+        directives: list[Directive],
+        matches: Matcher,
+        file_of: Callable[[etree._Element], str] | None = None,
+    ) -> None:
         self.directives = directives
         self._matches = matches
+        # an ignore-file comment in an included file withholds in that file only
+        self._file_of = file_of
         self._by_target: dict[etree._Element, list[Directive]] = {}
         self._file_wide = [d for d in directives if d.is_file_wide]
         for directive in directives:
@@ -118,7 +125,12 @@ class Suppressions:
         while current is not None and self._by_target:
             yield from self._by_target.get(current, ())
             current = current.getparent()
-        yield from self._file_wide
+        file_of = self._file_of
+        if file_of is None or element is None or not self._file_wide:
+            yield from self._file_wide
+            return
+        where = file_of(element)
+        yield from (d for d in self._file_wide if file_of(d.comment) == where)
 
     def unused(
         self, judgeable: Callable[[str], bool]

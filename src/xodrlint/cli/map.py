@@ -72,7 +72,7 @@ def run_map(request: MapRequest) -> int:
         kind = _output_kind(request.output, source)
         settings, linter = prepare_linter(registry, request.check)
         data = _read(source)
-        report = linter.lint_bytes(data, request.check.paths[0])
+        report = linter.lint_bytes(data, request.check.paths[0], location=source)
     except (ConfigError, SelectorError, OptionError, UsageError, SchemaLoadError) as error:
         error_line(str(error))
         return 2

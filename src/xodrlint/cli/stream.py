@@ -93,7 +93,11 @@ def stream_inputs(source: Source) -> Generator[tuple[int, FileReport], None, Non
             return FileReport(name, error=unreadable)
         named = source.stdin_filename is not None
         external = source.settings_of(index).ignored_in(Path(name)) if named else ()
-        return linters[source.profile_of(index)].lint_bytes(stdin, name, external)
+        # standard input named by --stdin-filename reads its includes from there
+        location = Path(name) if named else None
+        return linters[source.profile_of(index)].lint_bytes(
+            stdin, name, external, location=location
+        )
 
     completed = source.engine(tasks)
     try:

@@ -54,10 +54,14 @@ class Locator:
             "road": self._road,
         }
 
-    def element(self, xpath: str) -> etree._Element | None:
-        found_fast = self._doc.element_at(xpath)  # the XPaths findings carry
+    def element(self, xpath: str, path: str | None = None) -> etree._Element | None:
+        """The element ``xpath`` names in the file ``path`` (the map's own, or one it
+        includes)."""
+        found_fast = self._doc.element_at(xpath, path)  # the XPaths findings carry
         if found_fast is not None or self._doc.tree is None:
             return found_fast
+        if self._doc.part_named(path) is not None:
+            return None  # an included file's XPath says nothing about the whole tree
         try:
             found = self._doc.tree.xpath(xpath)
         except etree.XPathError:
@@ -67,7 +71,7 @@ class Locator:
         return None
 
     def place(self, finding: Finding) -> Point | None:
-        element = self.element(finding.xpath)
+        element = self.element(finding.xpath, finding.path)
         if element is None:
             return None
         if finding.code in AT_ROAD_END and element.tag == "road":

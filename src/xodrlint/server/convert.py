@@ -122,4 +122,10 @@ def diagnostics(
     report: FileReport, uri: str, text: str, encoding: str, registry: Registry
 ) -> Sequence[types.Diagnostic]:
     lines = Lines(text)
-    return [diagnostic(f, uri, lines, encoding, registry) for f in report.findings]
+    # a finding in a file the document includes has its line in that file: the
+    # document's own diagnostics leave it out (that file's own lint shows it)
+    return [
+        diagnostic(f, uri, lines, encoding, registry)
+        for f in report.findings
+        if f.path == report.path
+    ]

@@ -171,7 +171,7 @@ def _lint(folders: Folders, path: Path, data: bytes) -> Outcome:
         choice = folders.linter_for(path)
         if choice.excluded(path):
             return Outcome(FileReport(str(path)), choice.problem)
-        report = choice.linter.lint_bytes(data, str(path), choice.external(path))
+        report = choice.linter.lint_bytes(data, str(path), choice.external(path), location=path)
     except Exception as error:  # a schema that does not load, a bug: said, not swallowed
         return Outcome(None, failure=f"cannot lint {path}: {error}")
     return Outcome(report, choice.problem)

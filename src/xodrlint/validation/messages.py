@@ -296,6 +296,20 @@ def missing_reference_message(
     return f"'{tag}/{fields}' names {values}, but no '{key_selector}' has that {key_fields}"
 
 
+_MISSING_REFERENCE: Final = re.compile(
+    r"^'[^']*/@(?P<field>[\w.-]+)' names '(?P<value>[^']*)', "
+    r"but no '(?P<holder>[\w.-]+)' has that @(?P<key>[\w.-]+)$"
+)
+
+
+def missing_reference(message: str) -> tuple[str, str, str] | None:
+    """What a :func:`missing_reference_message` of one attribute says is missing: the
+    value, and the element and attribute that would define it (``('2', 'road', 'id')``);
+    ``None`` for any other message, a key of several fields or a selector of a path."""
+    found = _MISSING_REFERENCE.match(message)
+    return None if found is None else (found["value"], found["holder"], found["key"])
+
+
 def duplicate_key_message(tag: str, fields: str, values: str, key_selector: str) -> str:
     """A key value used twice: the same words for libxml2 and xmlschema. A key of one
     attribute reads as the rules word a duplicate: ``road id '3' is not unique: an earlier
