@@ -91,7 +91,7 @@ def test_a_broken_plugin_is_a_warning_not_a_crash() -> None:
     registry = load_registry(
         [BUILTIN_POINT, EntryPoint("bad", "no_such_module_xyz", "xodrlint.rules")]
     )
-    assert len(registry.rules) == 7  # the document pack: XS001-XS006 and XL001
+    assert len(registry.rules) == 8  # the document pack: XS001-XS007 and XL001
     assert registry.warnings and "'bad'" in registry.warnings[0]
 
 

@@ -278,3 +278,107 @@ def test_only_what_an_included_element_defines_resolves_a_reference(tmp_path: Pa
     assert [(f["line"], f["message"]) for f in found] == [
         (26, "'connection/@incomingRoad' names '9', but no 'road' has that @id")
     ]
+
+
+def test_a_utf16_map_follows_its_includes(tmp_path: Path) -> None:
+    main = _network(tmp_path)
+    text = MAIN.replace('encoding="UTF-8"', 'encoding="UTF-16"')
+    main.write_bytes(text.encode("utf-16"))
+    assert _findings(main, "--select", "SW004,XS007", code=0) == []
+    main.write_bytes(text.replace("branch.xml", "missing.xml").encode("utf-16"))
+    assert [f["code"] for f in _findings(main, "--select", "SW004,XS007")] == ["SW004", "XS007"]
+
+
+def test_an_included_file_whose_root_is_an_include_is_a_finding(tmp_path: Path) -> None:
+    main = _network(tmp_path, MAIN.replace("branch.xml", "indirect.xml"))
+    (tmp_path / "parts" / "indirect.xml").write_text('<include file="branch.xml"/>', "utf-8")
+    [finding] = _findings(main, "--select", "XS007")
+    assert finding["message"] == (
+        "include 'parts/indirect.xml' holds an include as its root element: "
+        "include the file it names instead"
+    )
+
+
+def test_max_file_size_holds_for_included_files(tmp_path: Path) -> None:
+    main = _network(tmp_path, branch=BRANCH + f"<!-- {'x' * 2000} -->\n")
+    [finding] = _findings(main, "--select", "XS007", "--max-file-size", "1500")
+    assert finding["message"] == "include 'parts/branch.xml' is larger than 1,500 bytes"
+
+
+def test_suppressions_keep_to_their_own_file(tmp_path: Path) -> None:
+    """An ignore-file comment before an included file's root applies there; an ignore
+    comment that ends an included file does not reach the including file's next element;
+    an unused file-wide one in an included file is reported at its own place."""
+    before_root = BRANCH.replace(
+        "<OpenDRIVE>", "<!-- xodrlint: ignore-file[RL002] -->\n<OpenDRIVE>"
+    )
+    main = _network(tmp_path, branch=before_root)
+    assert [Path(f["path"]).name for f in _findings(main, "--select", "RL002")] == ["main.xodr"]
+
+    trailing = BRANCH.replace("</OpenDRIVE>", "  <!-- xodrlint: ignore[RL002] -->\n</OpenDRIVE>")
+    main = _network(tmp_path, MAIN.replace(INCLUDE, INCLUDE + _road_3()), trailing)
+    found = _findings(main, "--select", "RL002")
+    assert [(Path(f["path"]).name, f["xpath"].split("/")[2]) for f in found] == [
+        ("main.xodr", "road[@id='1']"),
+        ("main.xodr", "road[@id='3']"),
+        ("branch.xml", "road[@id='2']"),
+    ]
+
+    unused = BRANCH.replace("</OpenDRIVE>", "  <!-- xodrlint: ignore-file[ST001] -->\n</OpenDRIVE>")
+    main = _network(tmp_path, branch=unused)
+    [finding] = _findings(main, "--select", "XL001,ST001")
+    line = unused.splitlines().index("  <!-- xodrlint: ignore-file[ST001] -->") + 1
+    assert (finding["path"], finding["line"]) == (str(tmp_path / "parts" / "branch.xml"), line)
+
+
+def _road_3() -> str:
+    """Road 2 of the cases as road 3, beside it: a main-file element after the include."""
+    road = BRANCH.split("<OpenDRIVE>\n", 1)[1].split("</OpenDRIVE>", 1)[0]
+    return road.replace('id="2"', 'id="3"')
+
+
+def test_reports_keep_each_finding_s_own_file(tmp_path: Path) -> None:
+    main = _network(tmp_path)
+    text = cli("check", "--show-source", "--select", "RL002", main, code=1).stdout
+    assert text.count(" | ") == 1  # the main file's line; none for the included one
+    junit = cli("check", "-f", "junit", "--select", "RL002", main, code=1).stdout
+    assert f'classname="{tmp_path / "parts" / "branch.xml"}"' in junit
+
+
+def test_a_related_element_in_another_file_is_named_with_its_file(tmp_path: Path) -> None:
+    # the included road holds a switch with the id of the main file's switch
+    switch = '<railroad><switch name="W2" id="101" position="dynamic"><mainTrack id="2" s="1" dir="+"/><sideTrack id="1" s="0" dir="+"/></switch></railroad>\n  </road>'
+    branch = BRANCH.replace("  </road>", "    " + switch, 1)
+    main = _network(tmp_path, branch=branch)
+    [found] = _findings(main, "--select", "SW007")
+    assert found["message"].endswith(f"at {main} line 18")
+    assert found["related"] == [
+        {
+            "line": 18,
+            "xpath": "/OpenDRIVE/road[@id='1']/railroad/switch[@id='101']",
+            "path": str(main),
+        }
+    ]
+
+
+def test_a_linked_map_reads_its_includes_from_the_link_s_folder(tmp_path: Path) -> None:
+    real = _network(tmp_path / "real")
+    (tmp_path / "elsewhere").mkdir()
+    link = tmp_path / "elsewhere" / "main.xodr"
+    link.symlink_to(real)
+    [finding] = _findings(link, "--select", "XS007")
+    assert finding["message"] == (
+        "include 'parts/branch.xml' cannot be read: no such file or directory"
+    )
+    # a link out of the link's folder is not followed; a copy in it is
+    (tmp_path / "elsewhere" / "parts").symlink_to(tmp_path / "real" / "parts")
+    [finding] = _findings(link, "--select", "XS007")
+    assert "lies outside" in finding["message"]
+    (tmp_path / "elsewhere" / "parts").unlink()
+    (tmp_path / "elsewhere" / "parts").mkdir()
+    (tmp_path / "elsewhere" / "parts" / "branch.xml").write_text(BRANCH, "utf-8")
+    found = _findings(link, "--select", "XS007,RL002")
+    assert [f["path"] for f in found] == [
+        str(link),
+        str(tmp_path / "elsewhere" / "parts" / "branch.xml"),
+    ]

@@ -99,6 +99,8 @@ class LintOptions(NamedTuple):
     OpenDRIVE version than the file declares (``--all-versions``, ``all-versions =
     true``). Without it such a rule does not judge the file, and the file's report
     names it (:attr:`FileReport.rules_not_applied`)."""
+    max_file_size: int = DEFAULT_MAX_FILE_SIZE
+    """The largest file an ``include`` may bring in (``max-file-size``)."""
     xsd_scope: str = "all"
     """``railroad``: a schema error (XS006) is listed only where it is about the railroad
     content (a ``railroad`` element, a station, a road with a rail or tram lane, and
@@ -129,6 +131,7 @@ class LintOptions(NamedTuple):
             rule_timeout=settings.rule_timeout or None,
             all_versions=settings.all_versions,
             xsd_scope=settings.xsd_scope,
+            max_file_size=settings.max_file_size,
         )
 
 
@@ -368,7 +371,7 @@ class Linter:
             # the schema judges each file as written, so it reads the tree before the
             # included content joins it
             validation.result()
-            problems[INCLUDE_RULE] = expand_includes(doc, location, DEFAULT_MAX_FILE_SIZE)
+            problems[INCLUDE_RULE] = expand_includes(doc, location, self.options.max_file_size)
             clock.lap("includes")
         not_applied = self._not_applied(doc)
         network = build_network(None if fatal else doc.root)
@@ -472,7 +475,7 @@ class Linter:
         # a map without the word has no suppression comment: skip walking its comments
         texts = (doc.data, *(part.data for part in doc.parts))
         held = any(may_hold_directives(text) for text in texts)
-        directives = read_directives(doc.root) if held else []
+        directives = read_directives(doc.root, doc.path_of if doc.parts else None) if held else []
         suppressions = Suppressions(directives, self._selector_matches, doc.path_of)
         kept: list[Finding] = []
         withheld: list[Suppressed] = []
@@ -540,12 +543,13 @@ class Linter:
         else:
             line, column, xpath = hit.line or 1, hit.column, DOCUMENT_XPATH
         severity = self.options.severity.get(meta.code, meta.severity)
-        related = tuple(Location(doc.line_of(el), doc.xpath_of(el)) for el in hit.related)
+        path = doc.path if hit.element is None else doc.path_of(hit.element)
+        related = tuple(_location(doc, el, path) for el in hit.related)
         message = one_line(hit.message)  # messages quote values a map may fill with anything
         if related:
-            message += " at line " + ", ".join(str(location.line) for location in related)
+            message += _at(related)
         finding = Finding(
-            path=doc.path if hit.element is None else doc.path_of(hit.element),
+            path=path,
             line=line,
             column=column,
             code=meta.code,
@@ -557,6 +561,22 @@ class Linter:
         )
         defers_to = meta.defers_to if hit.defers_to is None else hit.defers_to
         return _Stamped(finding, defers_to, hit.element)
+
+
+def _location(doc: Document, element: etree._Element, path: str) -> Location:
+    """Where a related element stands: its file named where it is not ``path``."""
+    own = doc.path_of(element)
+    return Location(doc.line_of(element), doc.xpath_of(element), None if own == path else own)
+
+
+def _at(related: Sequence[Location]) -> str:
+    """ " at line 3, 5" in the message; " at parts/x.xml line 3" for another file's."""
+    if all(location.path is None for location in related):
+        return " at line " + ", ".join(str(location.line) for location in related)
+    return " at " + ", ".join(
+        f"line {place.line}" if place.path is None else f"{place.path} line {place.line}"
+        for place in related
+    )
 
 
 class _Stamped(NamedTuple):

@@ -75,9 +75,14 @@ class Location(NamedTuple):
 
     line: int
     xpath: str
+    path: str | None = None
+    """The file it stands in, where that is not the finding's (an included file)."""
 
     def as_dict(self) -> dict[str, object]:
-        return {"line": self.line, "xpath": self.xpath}
+        place: dict[str, object] = {"line": self.line, "xpath": self.xpath}
+        if self.path is not None:
+            place["path"] = self.path
+        return place
 
 
 class Finding(NamedTuple):

@@ -9,15 +9,17 @@ governs); otherwise its root element itself does (a ``road`` file included in
 ``OpenDRIVE``). So references resolve across files, and the rules judge the whole network.
 
 Each node keeps its file: a finding on it carries that file's name, line and XPath
-(:class:`~xodrlint.document.IncludedPart`). The schema check judges each file as written
-(an included fragment has no header of its own, and its elements may stand where the
-schema's order would not put them): it runs before the included content joins the tree.
+(:class:`~xodrlint.document.IncludedPart`). The schema check judges the checked file as
+written, and only it (an included fragment has no header of its own, and its elements
+may stand where the schema's order would not put them): it runs before the included
+content joins the tree. Included content is judged by the rules.
 
 What is read, and what is an XS007 finding on the ``include`` instead: only files inside
 the folder of the file the run was given (and below it), after symbolic links are
 resolved; never a URL; at most :data:`MAX_DEPTH` includes deep; never a file that
 includes itself; regular files only, no larger than the run's ``max-file-size``, parsed
-with the same hardened parser as a map. A file included twice joins once.
+with the same hardened parser as a map. A file included twice joins once: the work is
+bounded by the files of the folder, whatever a hostile tree of includes asks for.
 """
 
 from __future__ import annotations
@@ -57,8 +59,11 @@ _URL: Final = re.compile(r"^[A-Za-z][A-Za-z0-9+.-]+:")
 
 def has_includes(doc: Document) -> bool:
     """Whether ``doc`` holds an ``include`` to follow (a byte search first: most maps
-    hold none, and walking a city map's tree costs more)."""
-    if doc.root is None or b"include" not in doc.data:
+    hold none, and walking a city map's tree costs more; a file in UTF-16 or UTF-32,
+    where the word is no such run of bytes, is walked)."""
+    if doc.root is None:
+        return False
+    if b"include" not in doc.data and b"\0" not in doc.data[:4]:
         return False
     return next(_includes_in(doc.root), None) is not None
 
@@ -73,17 +78,21 @@ def expand_includes(doc: Document, location: Path | None, limit: int | None) -> 
     if location is None:
         reason = "is not read: the file being checked was not read from a folder"
         return [Hit(include, _about(include, reason)) for include in includes]
-    real = Path(os.path.realpath(location))
-    walk = _Walk(doc, real.parent, limit)
-    walk.follow(includes, _Includer(real, doc.path, ()))
+    # names resolve from the folder the file was named in (as any reader opens them);
+    # what is read must lie in that folder's real tree
+    given = location if location.is_absolute() else Path.cwd() / location
+    walk = _Walk(doc, Path(os.path.realpath(given.parent)), limit)
+    walk.follow(includes, _Includer(given, Path(os.path.realpath(given)), doc.path, ()))
     return walk.hits
 
 
 @dataclass(frozen=True)
 class _Includer:
-    """A file whose includes are followed: where it is, its name in reports, and the
-    files that include it (outermost first)."""
+    """A file whose includes are followed: the path it was reached by (its includes'
+    names start from its folder), the file that is, its name in reports, and the files
+    that include it (outermost first)."""
 
+    given: Path
     real: Path
     shown: str
     chain: tuple[Path, ...]
@@ -105,12 +114,13 @@ class _Walk:
 
     def _follow(self, include: etree._Element, includer: _Includer) -> str | None:
         """Splice one include's content after it; why it cannot be, if it cannot."""
-        name = (include.get("file") or "").strip()
-        if not name:
+        name = include.get("file") or ""
+        if not name.strip():
             return "names no file"
         if _URL.match(name):
             return "is a URL: xodrlint reads no include from the network"
-        real = Path(os.path.realpath(includer.real.parent / name))
+        given = includer.given.parent / name
+        real = Path(os.path.realpath(given))
         if not real.is_relative_to(self.folder):
             folder = posixpath.dirname(self.doc.path) or "."
             return f"lies outside {folder}, the folder of the file being checked"
@@ -131,12 +141,10 @@ class _Walk:
         parsed = _parse(data)
         if isinstance(parsed, str):
             return parsed
+        if parsed.tag == "include":
+            return "holds an include as its root element: include the file it names instead"
         self.seen.add(real)
-        shown = posixpath.normpath(
-            posixpath.join(
-                posixpath.dirname(self.doc.path), real.relative_to(self.folder).as_posix()
-            )
-        )
+        shown = _shown(includer.shown, name)
         part = IncludedPart(
             shown,
             data,
@@ -148,7 +156,7 @@ class _Walk:
         for node in _content(parsed, include):  # XPaths in their own file, before moves
             if isinstance(node.tag, str):
                 part.xpaths.path_of(node)
-        self.follow(list(_includes_in(parsed)), _Includer(real, shown, chain))
+        self.follow(list(_includes_in(parsed)), _Includer(given, real, shown, chain))
         self.doc.parts.append(part)
         anchor = include
         # what its own includes brought in comes along, and keeps its own file
@@ -215,12 +223,22 @@ def _parse(data: bytes) -> etree._Element | str:
     return root
 
 
+def _shown(includer: str, name: str) -> str:
+    """An included file's name in reports: as the include names it, from the folder of
+    its includer's name (an absolute name as it is)."""
+    if posixpath.isabs(name):
+        return posixpath.normpath(name)
+    return posixpath.normpath(posixpath.join(posixpath.dirname(includer), name))
+
+
 def _content(root: etree._Element, include: etree._Element) -> list[etree._Element]:
-    """The nodes of an included file that join the include's parent."""
+    """The nodes of an included file that join the include's parent, with the comments
+    before its root (a suppression comment may stand there)."""
+    before = list(root.itersiblings(etree.Comment, preceding=True))[::-1]
     parent = include.getparent()
     if parent is None or root.tag != parent.tag:
-        return [root]
-    nodes: list[etree._Element] = []
+        return [*before, root]
+    nodes: list[etree._Element] = before
     for node in root:
         if node.tag == "header" and parent.tag == "OpenDRIVE":
             continue
@@ -229,12 +247,19 @@ def _content(root: etree._Element, include: etree._Element) -> list[etree._Eleme
 
 
 def _includes_in(root: etree._Element) -> Iterator[etree._Element]:
-    """The ``include`` elements of a tree, in document order, but for those inside an
-    application's own data."""
-    for include in root.iter("include"):
+    """The ``include`` elements below ``root``, in document order, but for those inside
+    an application's own data."""
+    for include in root.iterdescendants("include"):
         if not any(ancestor.tag in _OPAQUE for ancestor in include.iterancestors()):
             yield include
 
 
+#: The longest file name a message repeats in full.
+_SHOWN_NAME: Final = 120
+
+
 def _about(include: etree._Element, reason: str) -> str:
-    return f"include '{include.get('file', '')}' {reason}"
+    name = include.get("file", "")
+    if len(name) > _SHOWN_NAME:
+        name = name[: _SHOWN_NAME - 3] + "..."
+    return f"include '{name}' {reason}"

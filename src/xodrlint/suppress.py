@@ -64,8 +64,12 @@ class Directive:
         return self.scope == FILE_SCOPE
 
 
-def read_directives(root: etree._Element | None) -> list[Directive]:
-    """Every suppression comment of the document, in document order."""
+def read_directives(
+    root: etree._Element | None, file_of: Callable[[etree._Element], str] | None = None
+) -> list[Directive]:
+    """Every suppression comment of the document, in document order. ``file_of`` names
+    the file a node stands in, where includes brought others' nodes into the tree: an
+    ``ignore`` comment then applies to the next element of its own file only."""
     if root is None:
         return []
     comments = [
@@ -80,14 +84,18 @@ def read_directives(root: etree._Element | None) -> list[Directive]:
             continue
         selectors = tuple(s.strip() for s in match["codes"].split(",") if s.strip())
         file_wide = match["scope"] == FILE_SCOPE
-        target = None if file_wide else _next_element(comment)
+        target = None if file_wide else _next_element(comment, file_of)
         found.append(Directive(comment, match["scope"], selectors, match["reason"], target))
     return found
 
 
-def _next_element(comment: etree._Element) -> etree._Element | None:
+def _next_element(
+    comment: etree._Element, file_of: Callable[[etree._Element], str] | None
+) -> etree._Element | None:
     for sibling in comment.itersiblings():
         if isinstance(sibling.tag, str):
+            if file_of is not None and file_of(sibling) != file_of(comment):
+                return None
             return sibling
     return None
 
@@ -151,7 +159,7 @@ def unused_hits(
     comment, the one holding it), so a suppression of that element covers it, but its
     line is the comment's."""
     for directive, idle in suppressions.unused(judgeable):
-        anchor = directive.target if directive.target is not None else directive.comment.getparent()
+        anchor = directive.target if directive.target is not None else _holder(doc, directive)
         shown = ", ".join(idle) if idle else "nothing"
         line, column = doc.position_of(directive.comment)
         yield Hit(
@@ -161,3 +169,19 @@ def unused_hits(
             line=line,
             column=column,
         )
+
+
+def _holder(doc: Document, directive: Directive) -> etree._Element | None:
+    """The element a comment without a target is about: the one holding it, or where an
+    include brought it in from another file, an element of that file beside it (the
+    finding then names the comment's file)."""
+    comment = directive.comment
+    holder = comment.getparent()
+    if holder is None or doc.part_of(comment) is doc.part_of(holder):
+        return holder
+    part = doc.part_of(comment)
+    siblings = [*comment.itersiblings(preceding=True), *comment.itersiblings()]
+    return next(
+        (node for node in siblings if isinstance(node.tag, str) and doc.part_of(node) is part),
+        holder,
+    )

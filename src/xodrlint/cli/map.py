@@ -111,7 +111,12 @@ def render_map(
     scene = build_scene(doc, network, placer, tolerance)
     locator = Locator(doc, network, placer)
     placed = tuple(
-        PlacedFinding(index, finding, locator.place(finding))
+        PlacedFinding(
+            index,
+            finding,
+            locator.place(finding),
+            None if finding.path == doc.path else finding.path,  # an included file's
+        )
         for index, finding in enumerate(findings)
     )
     markers = (item.at for item in placed if item.at is not None)

@@ -103,6 +103,10 @@ def _write_findings(findings: tuple[Finding, ...], stream: TextIO) -> None:
     stream.write("\n  ]")
 
 
+def _other_file(path: str | None) -> str:
+    return "" if path is None else f',\n          "path": {_string(path)}'
+
+
 def _finding(finding: Finding) -> str:
     column = "null" if finding.column is None else str(int(finding.column))
     if finding.related:
@@ -110,7 +114,8 @@ def _finding(finding: Finding) -> str:
             "[\n"
             + ",\n".join(
                 f'        {{\n          "line": {int(location.line)},\n'
-                f'          "xpath": {_string(location.xpath)}\n        }}'
+                f'          "xpath": {_string(location.xpath)}{_other_file(location.path)}'
+                "\n        }"
                 for location in finding.related
             )
             + "\n      ]"

@@ -62,7 +62,9 @@ def line(finding: Finding) -> str:
     ``int``: a subclass's ``__format__`` (a plugin's) could write anything there."""
     column = "null" if finding.column is None else str(int(finding.column))
     related = ",".join(
-        f'{{"line":{int(location.line)},"xpath":{_string(location.xpath)}}}'
+        f'{{"line":{int(location.line)},"xpath":{_string(location.xpath)}'
+        + ("" if location.path is None else f',"path":{_string(location.path)}')
+        + "}"
         for location in finding.related
     )
     text = (

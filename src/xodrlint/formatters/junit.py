@@ -55,7 +55,7 @@ def as_junit(result: RunResult) -> etree._Element:
     totals = [0, 0, 0]
     rules = rules_by_code(result)
     for report in result.reports:
-        suite = _suite(report, report_path(report.path, result))
+        suite = _suite(report, report_path(report.path, result), result)
         _skipped(suite, report, rules, report_path(report.path, result))
         root.append(suite)
         for i, key in enumerate(("tests", "failures", "errors")):
@@ -66,7 +66,7 @@ def as_junit(result: RunResult) -> etree._Element:
     return root
 
 
-def _suite(report: FileReport, path: str) -> etree._Element:
+def _suite(report: FileReport, path: str, result: RunResult) -> etree._Element:
     suite = etree.Element("testsuite", name=xml_text(path))
     cases: list[etree._Element] = []
     if report.error:
@@ -75,7 +75,9 @@ def _suite(report: FileReport, path: str) -> etree._Element:
         _error_case(path, "internal error", "internal-error", crash)
         for crash in report.internal_errors
     )
-    cases.extend(_failure_case(finding, path) for finding in report.findings)
+    for finding in report.findings:  # one in an included file names that file
+        own = finding.path == report.path
+        cases.append(_failure_case(finding, path if own else report_path(finding.path, result)))
     if not cases:
         cases.append(_case(CLEAN_CASE, path))
     for case, name in zip(cases, unique_names(case.get("name", "") for case in cases), strict=True):

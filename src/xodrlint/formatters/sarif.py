@@ -311,7 +311,10 @@ def _result(
     }
     if finding.related:
         entry["relatedLocations"] = [
-            {"id": number, **_location(finding.path, other.line, None, other.xpath, root)}
+            {
+                "id": number,
+                **_location(other.path or finding.path, other.line, None, other.xpath, root),
+            }
             for number, other in enumerate(finding.related, start=1)
         ]
     entry["partialFingerprints"] = {FINGERPRINT_KEY: fingerprint}

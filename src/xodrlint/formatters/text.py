@@ -94,7 +94,9 @@ class TextFormatter:
             if self.quiet:
                 continue
             console.print(Text(f"    {finding.xpath}", style="dim"))
-            source = report.source_lines.get(finding.line) if self.show_source else None
+            # the report keeps its own file's lines (a finding in an included file has none)
+            own = self.show_source and finding.path == report.path
+            source = report.source_lines.get(finding.line) if own else None
             if source is not None:
                 console.print(
                     Text(f"    {finding.line:>6} | ", style="dim") + Text(one_line(source))

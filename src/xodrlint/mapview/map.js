@@ -161,7 +161,7 @@
       xpath.className = "xpath";
       xpath.textContent = finding.xpath;
       message.appendChild(xpath);
-      cell(row, String(finding.line));
+      cell(row, (finding.file ? finding.file + ":" : "") + finding.line);
       row.addEventListener("click", function () { select(index, true); });
       body.appendChild(row);
       rows.push(row);

@@ -60,6 +60,7 @@ def _data(
                 "severity": str(placed.finding.severity),
                 "message": placed.finding.message,
                 "line": placed.finding.line,
+                "file": placed.file,
                 "xpath": placed.finding.xpath,
                 "at": list(unit(placed.at)) if placed.at is not None else None,
             }

@@ -28,6 +28,14 @@ class PlacedFinding:
     index: int
     finding: Finding
     at: Point | None
+    file: str | None = None
+    """The file the finding stands in, where the map includes it from another."""
+
+    @property
+    def where(self) -> str:
+        """ "line 12", or "parts/x.xml line 12" for a finding in an included file."""
+        line = f"line {self.finding.line}"
+        return line if self.file is None else f"{self.file} {line}"
 
 
 @dataclass(frozen=True, slots=True)
@@ -201,7 +209,7 @@ def _findings(findings: Sequence[PlacedFinding], radius: int) -> str:
             if placed.at is None or finding.severity is not severity:
                 continue
             x, y = unit(placed.at)
-            label = f"{finding.code} [{finding.severity}] line {finding.line}: {finding.message}"
+            label = f"{finding.code} [{finding.severity}] {placed.where}: {finding.message}"
             parts.append(
                 f'<circle class="finding {severity}" data-finding="{placed.index}" '
                 f'cx="{x}" cy="{y}" r="{radius}">{_title(label)}</circle>'

@@ -17,11 +17,15 @@ line. Reports an `include` whose file cannot be brought in:
   `--stdin-filename`, an object by URL), so no include of it is read.
 
 An included file whose root element has the tag of the `include`'s parent (an
-`OpenDRIVE` file included in `OpenDRIVE`) gives its children (but for a `header`: the
-including file's governs); any other gives its root element. A file included twice
-joins once. The schema check judges each file as written, before the included content
-joins it; a key reference that an included element resolves (a `sideTrack` naming an
-included road) is then not an XS006.
+`OpenDRIVE` file included in `OpenDRIVE`) gives its children and the comments before
+its root (but for a `header`: the including file's governs); any other gives its root
+element. Names resolve from the folder of the file that names them, as given (a linked
+map reads its includes beside the link). A file included twice joins once, so the work
+is bounded by the files in the folder. The schema check judges the checked file as
+written, before the included content joins it; the content of included files is judged
+by the rules, not by the schema (an included fragment has no header of its own). A key
+reference that an included element resolves (a `sideTrack` naming an included road) is
+then not an XS006. Suppression comments keep to their own file.
 
 ## Why is this bad?
 This rule's basis is an inference: OpenDRIVE allows includes "at any position" and
