@@ -5,26 +5,14 @@ paths of the flat layout still lead to the same objects."""
 from __future__ import annotations
 
 import ast
-import importlib
 import re
 import subprocess
 import sys
 import tomllib
-import warnings
 from collections.abc import Iterable, Mapping
 from pathlib import Path
-from unittest import mock
-
-import pytest
-
-import xodrlint
-from xodrlint import MOVED_MODULES, _moved
-from xodrlint.validation import libxml2, validators
-from xodrlint.validation.libxml2 import Libxml2Validator
-from xodrlint.validation.sets import SchemaFinder
 
 from .conftest import REPO
-from .old_layout import OLD_PUBLIC_NAMES
 
 PACKAGE = REPO / "src" / "xodrlint"
 ARCHITECTURE = REPO / "docs" / "architecture.md"
@@ -159,157 +147,20 @@ def test_architecture_doc_names_every_package_and_top_level_module() -> None:
     assert unnamed == [], f"docs/architecture.md does not say where these live: {unnamed}"
 
 
-@pytest.fixture(autouse=True)
-def _fresh_old_paths(monkeypatch: pytest.MonkeyPatch) -> None:
-    # a stand-in warns once per name: every test starts with new ones
-    for old in MOVED_MODULES:
-        monkeypatch.delitem(sys.modules, old, raising=False)
-    monkeypatch.setattr("xodrlint.cli._OLD_NAMES_WARNED", set())
-
-
-def test_no_old_path_is_a_real_module() -> None:
-    for old in MOVED_MODULES:
-        relative = Path(*old.split(".")[1:])
-        assert not (PACKAGE / relative.with_suffix(".py")).exists(), old
-        assert not (PACKAGE / relative / "__init__.py").exists(), old
-
-
-def test_a_folder_left_at_an_old_path_does_not_hide_it(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    # a checkout keeps schemas/__pycache__/ after switching branches: without the finder
-    # first in line, that folder imports as an empty namespace package
-    (tmp_path / "schemas" / "__pycache__").mkdir(parents=True)
-    monkeypatch.setattr(xodrlint, "__path__", [*xodrlint.__path__, str(tmp_path)])
-    stand_in = importlib.import_module("xodrlint.schemas")
-
-    assert isinstance(stand_in, _moved.MovedModule)
-    with pytest.warns(DeprecationWarning):
-        assert stand_in.SchemaFinder is SchemaFinder
-
-
-def test_the_old_modules_are_the_ones_the_flat_layout_had() -> None:
-    assert set(MOVED_MODULES) | {"xodrlint.cli", "xodrlint.model"} == set(OLD_PUBLIC_NAMES)
-
-
-@pytest.mark.parametrize("old", sorted(OLD_PUBLIC_NAMES))
-def test_every_public_name_of_an_old_module_still_imports(old: str) -> None:
-    module = importlib.import_module(old)
-    for name in OLD_PUBLIC_NAMES[old]:
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            value = getattr(module, name)
-        home = _named_home(caught, old, name)
-        if home is None:  # still where it was (xodrlint.model, xodrlint.cli's app)
-            continue
-        assert getattr(importlib.import_module(home), name) is value, (old, name, home)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")  # once per name: a second read is quiet
-        for name in OLD_PUBLIC_NAMES[old]:
-            getattr(module, name)
-
-
-def _named_home(caught: list[warnings.WarningMessage], old: str, name: str) -> str | None:
-    texts = [str(w.message) for w in caught if issubclass(w.category, DeprecationWarning)]
-    if not texts:
-        return None
-    (text,) = texts
-    found = re.fullmatch(rf"{re.escape(old)}\.{name} moved to ([\w.]+)\.{name}; .*", text)
-    assert found, text
-    return found.group(1)
-
-
-@pytest.mark.parametrize(
-    ("old", "name", "home"),
-    [
-        ("xodrlint.schema", "Libxml2Validator", "xodrlint.validation.libxml2"),
-        ("xodrlint.schema", "SchemaValidators", "xodrlint.validation.validators"),
-        ("xodrlint.run", "show_config", "xodrlint.cli.config"),
-        ("xodrlint.xsd_messages", "CHILD_KINDS", "xodrlint.validation.messages"),
-        ("xodrlint.profile", "lane_width", "xodrlint.model.lane_profiles"),
-        ("xodrlint.cli", "FAST_EXIT_ENV", "xodrlint.cli.entry"),
-        ("xodrlint.cli", "FailOn", "xodrlint.cli.commands"),
-    ],
-)
-def test_the_warning_names_where_a_name_is_defined(old: str, name: str, home: str) -> None:
-    module = importlib.import_module(old)
-    with pytest.warns(DeprecationWarning) as caught:
-        getattr(module, name)
-    assert _named_home(list(caught), old, name) in (home, "xodrlint.findings")
-
-
-def test_a_name_imported_from_elsewhere_is_named_where_it_is_defined() -> None:
-    import xodrlint.run  # type: ignore[import-not-found]
-
-    with pytest.warns(
-        DeprecationWarning, match=r"resolve_settings moved to xodrlint\.cli\.check\."
-    ):
-        xodrlint.run.resolve_settings  # noqa: B018
-    import xodrlint.profile  # type: ignore[import-not-found]
-
-    with pytest.warns(DeprecationWarning, match=r"profile\.Road moved to xodrlint\.model\.Road;"):
-        xodrlint.profile.Road  # noqa: B018
-
-
-def test_old_from_imports_star_imports_and_submodules_work() -> None:
-    with pytest.warns(DeprecationWarning, match=r"xodrlint\.validation\.store\.install_wheel"):
-        from xodrlint.schemas.store import install_wheel  # type: ignore[import-not-found]
-    from xodrlint.validation.store import install_wheel as moved
-
-    assert install_wheel is moved
-    namespace: dict[str, object] = {}
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", DeprecationWarning)
-        exec("from xodrlint.batch import *", namespace)
-    assert namespace["lint_tasks"] is importlib.import_module("xodrlint.workers.batch").lint_tasks
-    with pytest.raises(ImportError):
-        importlib.import_module("xodrlint.schemas.nothing")
-    with pytest.raises(AttributeError, match="has no attribute 'nothing'"):
-        xodrlint.batch.nothing  # noqa: B018
-    # an old module is reachable as an attribute of the package, as it was once imported
-    assert isinstance(xodrlint.forkpool, _moved.MovedModule)
-
-
-def test_patching_through_an_old_path_reaches_the_code_that_reads_it(
-    monkeypatch: pytest.MonkeyPatch,
-) -> None:
-    from xodrlint.workers import batch
-
-    original = batch.default_jobs
-    old = importlib.import_module("xodrlint.batch")
-    with pytest.warns(DeprecationWarning):
-        monkeypatch.setattr(old, "default_jobs", lambda: 42)
-    assert batch.default_jobs() == 42
-    monkeypatch.undo()
-    assert batch.default_jobs is original
-    with mock.patch("xodrlint.schema.Libxml2Validator") as patched:
-        # the old module's one binding is read in both new modules
-        assert vars(validators)["Libxml2Validator"] is patched
-        assert libxml2.Libxml2Validator is patched
-    assert vars(validators)["Libxml2Validator"] is libxml2.Libxml2Validator is Libxml2Validator
-
-
-def test_the_old_cli_names_and_the_console_entry() -> None:
-    import xodrlint.cli
-    from xodrlint.cli.entry import main
-
-    assert xodrlint.cli.main is main
-    with pytest.warns(DeprecationWarning, match=r"xodrlint\.cli\.explain moved to"):
-        assert callable(xodrlint.cli.explain)
-    with pytest.raises(AttributeError):
-        xodrlint.cli.nothing  # noqa: B018
-
-
-def test_python_m_on_an_old_path_runs_the_new_module(tmp_path: Path) -> None:
+def test_importing_xodrlint_leaves_the_import_machinery_alone() -> None:
+    """No finder of ours in sys.meta_path (a notebook's or a Dask worker's imports pass
+    through it), and the flat layout's module paths are gone, not served."""
     done = subprocess.run(
-        [sys.executable, "-m", "xodrlint.docgen"],
-        cwd=tmp_path,
+        [
+            sys.executable,
+            "-c",
+            "import sys; before = list(sys.meta_path); import xodrlint, xodrlint.cli;"
+            "assert sys.meta_path == before, sys.meta_path\n"
+            "try:\n import xodrlint.batch\nexcept ModuleNotFoundError: print('gone')",
+        ],
         capture_output=True,
         text=True,
         check=False,
         timeout=60,
     )
-    assert "xodrlint.docgen moved to xodrlint.cli.docgen" in done.stderr
-    # the new module ran: it refuses a folder without the rules' cases, as it always did
-    assert "run from the repository root" in done.stdout + done.stderr
-    assert "Traceback" not in done.stderr
+    assert (done.returncode, done.stdout, done.stderr) == (0, "gone\n", "")

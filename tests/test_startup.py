@@ -34,7 +34,6 @@ NOT_FOR_A_SMALL_JSON_RUN = (
     "xodrlint.cli.qc",
     "xodrlint.cli.map",
     "xodrlint.workers.forkpool",
-    "xodrlint._moved",
     "pathspec",
     # a Dask cluster as the engine (--scheduler, xodrlint.distributed)
     "dask",

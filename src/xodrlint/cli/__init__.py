@@ -21,19 +21,6 @@ if TYPE_CHECKING:
 
 __all__ = ["app", "main", "schemas_app"]
 
-#: Names of the old ``xodrlint/cli.py`` still handed out here, until 0.2, and where they
-#: live now. ``check`` is not among them: ``xodrlint.cli.check`` is now the module that
-#: runs the check.
-_OLD_COMMAND_NAMES = (
-    *("FailOn", "qc_command", "map_command", "config_command", "rules_command", "explain"),
-    *("schemas_list", "schemas_add", "schemas_fetch"),
-)
-OLD_NAMES = {
-    **dict.fromkeys(_OLD_COMMAND_NAMES, "xodrlint.cli.commands"),
-    "FAST_EXIT_ENV": "xodrlint.cli.entry",
-}
-_OLD_NAMES_WARNED: set[str] = set()
-
 
 def __getattr__(name: str) -> Any:
     if name in ("app", "schemas_app"):
@@ -44,8 +31,4 @@ def __getattr__(name: str) -> Any:
         from xodrlint.cli.entry import main
 
         return main
-    if name in OLD_NAMES:
-        from xodrlint._moved import moved_name
-
-        return moved_name(__name__, name, (OLD_NAMES[name],), _OLD_NAMES_WARNED)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

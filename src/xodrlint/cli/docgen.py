@@ -19,17 +19,13 @@ from pathlib import Path
 from typing import Final
 
 from xodrlint.findings import RuleMeta, RunResult
-from xodrlint.testing.cases import RuleCase, cases_in, read_case
+from xodrlint.testing.cases import cases_in
 from xodrlint.testing.pack import RulePack
 from xodrlint.testing.pages import render_page
 
 #: The packages of xodrlint's own rules, as a pack under test.
 BUILTIN_PACK: Final = "xodrlint.rules"
-#: The 0.1 names of what :mod:`xodrlint.testing` holds now, for the old module path
-#: ``xodrlint.docgen`` (served until 0.2, see ``MOVED_MODULES``).
-Case = RuleCase
-cases_of = cases_in
-__all__ = ["Case", "cases_of", "formats_page", "generate", "main", "read_case", "render_page"]
+__all__ = ["formats_page", "generate", "main"]
 
 
 def generate(root: Path, metas: Iterable[RuleMeta]) -> dict[Path, str]:
