@@ -61,3 +61,17 @@ def test_sw011_labels_the_two_points() -> None:
     case = REPO / "rules" / "SW011" / "invalid_side_track_apart.xodr"
     message = run("check", "--select", "SW011", "-f", "concise", case).stdout
     assert re.search(r"main track at \([-0-9., ]+\), side track at \([-0-9., ]+\)", message)
+
+
+def test_os_errors_are_worded_one_way(tmp_path: Path) -> None:
+    """The OS's reason, starting lowercase, wherever a file cannot be read (issue 32,
+    item 4: seven places said it three ways)."""
+    folder = tmp_path / "config.toml"
+    folder.mkdir()
+    result = run("check", "--config", folder, CLEAN)
+    assert result.exit_code == 2
+    assert f"{folder}: cannot read: is a directory" in result.stderr
+    missing = tmp_path / "baseline.json"
+    result = run("check", "--baseline", missing, CLEAN)
+    assert result.exit_code == 2
+    assert f"{missing}: cannot read: no such file or directory" in result.stderr

@@ -20,7 +20,7 @@ from typing import Final, NamedTuple
 
 from xodrlint.config import DEFAULT_MAX_FILE_SIZE, too_large
 from xodrlint.engine import Linter, LintOptions
-from xodrlint.files import special_kind
+from xodrlint.files import os_reason, special_kind
 from xodrlint.findings import FileReport, Severity
 from xodrlint.registry import Registry, load_registry
 from xodrlint.remote import is_url
@@ -476,12 +476,6 @@ def printable_path(name: str) -> str:
     except UnicodeEncodeError:
         return os.fsencode(name).decode("utf-8", "backslashreplace")
     return name
-
-
-def os_reason(error: OSError) -> str:
-    """The OS's reason for ``error``, lowercased the way xodrlint's messages are."""
-    reason = error.strerror or type(error).__name__
-    return reason[:1].lower() + reason[1:]
 
 
 def exit_code(reports: Sequence[FileReport], fail_on: Severity, exit_zero: bool) -> int:

@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Final, NamedTuple
 
 from xodrlint.api import STDIN
+from xodrlint.files import os_reason
 from xodrlint.findings import FileReport, Suppressed, fingerprints, relative_path
 from xodrlint.messages import plural
 
@@ -97,7 +98,7 @@ def load_baseline(path: Path) -> Baseline:
     try:
         document = json.loads(path.read_text(encoding="utf-8"))
     except OSError as error:
-        raise BaselineError(f"{path}: cannot read: {error.strerror or error}") from error
+        raise BaselineError(f"{path}: cannot read: {os_reason(error)}") from error
     except (ValueError, RecursionError) as error:  # bad JSON, a number past int's limit
         reason = (
             str(error)

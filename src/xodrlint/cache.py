@@ -23,7 +23,7 @@ import sys
 from pathlib import Path
 from typing import Final
 
-from xodrlint.files import write_atomically
+from xodrlint.files import os_reason, write_atomically
 
 try:  # hashlib's BLAKE2b without hashlib, whose OpenSSL import cost 4 ms of every start
     from _blake2 import blake2b
@@ -61,7 +61,7 @@ def distrust(path: Path) -> str | None:
         except FileNotFoundError:
             return None
         except OSError as error:
-            return f"{current} cannot be examined ({error.strerror})"
+            return f"{current} cannot be examined ({os_reason(error)})"
         if uid is not None and status.st_uid != uid:
             return f"{current} belongs to another user (uid {status.st_uid})"
         if status.st_mode & (stat.S_IWGRP | stat.S_IWOTH):

@@ -18,6 +18,7 @@ from functools import cache, lru_cache
 from pathlib import Path
 from typing import Any, Final, NamedTuple
 
+from xodrlint.files import os_reason
 from xodrlint.findings import RuleOption, Severity
 
 #: Looked for in each folder, in this order; a pyproject.toml counts only with [tool.xodrlint].
@@ -133,7 +134,7 @@ def distrust(path: Path, repository_owner: int | None = None) -> str | None:
     try:
         status = path.stat()
     except OSError as error:
-        return f"cannot be read: {error.strerror or error}"
+        return f"cannot be read: {os_reason(error)}"
     if status.st_mode & stat.S_IWOTH:
         return "every user of the machine can write it"
     if status.st_uid not in (os.geteuid(), 0, repository_owner):
@@ -166,7 +167,7 @@ def read_config(path: Path, *, required: bool = True) -> ConfigFile | None:
     try:
         document = tomllib.loads(path.read_text(encoding="utf-8"))
     except OSError as error:
-        raise ConfigError(f"{path}: cannot read: {error.strerror or error}") from error
+        raise ConfigError(f"{path}: cannot read: {os_reason(error)}") from error
     except (ValueError, RecursionError) as error:  # TOMLDecodeError is a ValueError
         reason = "nested too deeply" if isinstance(error, RecursionError) else str(error)
         raise ConfigError(f"{path}: not valid TOML: {reason}") from error

@@ -28,7 +28,7 @@ from xodrlint.config import (
     too_large,
 )
 from xodrlint.document import Document, Version, load_bytes
-from xodrlint.files import FileTooLarge, NotRegularFile, read_regular_file
+from xodrlint.files import FileTooLarge, NotRegularFile, os_reason, read_regular_file
 from xodrlint.findings import (
     NO_ENTRIES,
     FileReport,
@@ -661,8 +661,7 @@ def _with_read_time(report: FileReport, read: float) -> FileReport:
 
 
 def _os_error(error: OSError, shown: str) -> str:
-    reason = error.strerror or type(error).__name__
-    return f"{shown}: cannot read: {reason[:1].lower()}{reason[1:]}"
+    return f"{shown}: cannot read: {os_reason(error)}"
 
 
 #: Elements whose schema errors ``xsd-scope = "railroad"`` lists, with all inside them.

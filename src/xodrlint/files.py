@@ -11,6 +11,13 @@ from pathlib import Path
 from typing import BinaryIO
 
 
+def os_reason(error: OSError) -> str:
+    """The reason for ``error`` as xodrlint's messages say it: the OS's words (else the
+    error's own, else its kind), starting lowercase ("no such file or directory")."""
+    reason = error.strerror or str(error) or type(error).__name__
+    return reason[:1].lower() + reason[1:]
+
+
 class NotRegularFile(OSError):
     """The path is a FIFO, a device or a socket: reading it would block or never end."""
 

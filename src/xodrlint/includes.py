@@ -42,7 +42,7 @@ from xodrlint.document import (
     drop_legacy_namespace,
     hardened_parser,
 )
-from xodrlint.files import FileTooLarge, NotRegularFile, read_regular_file
+from xodrlint.files import FileTooLarge, NotRegularFile, os_reason, read_regular_file
 from xodrlint.findings import Hit
 from xodrlint.messages import readable_parser_message
 from xodrlint.positions import SourcePositions
@@ -137,7 +137,7 @@ class _Walk:
         except (FileTooLarge, NotRegularFile) as error:
             return str(error)
         except OSError as error:
-            return f"cannot be read: {(error.strerror or str(error)).lower()}"
+            return f"cannot be read: {os_reason(error)}"
         parsed = _parse(data)
         if isinstance(parsed, str):
             return parsed

@@ -26,6 +26,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Final
 
+from xodrlint.files import os_reason
+
 if TYPE_CHECKING:
     from pathspec import GitIgnoreSpec
 
@@ -91,8 +93,7 @@ def read_ignore_file(path: Path, base: str, notes: list[str]) -> IgnoreFile | No
     except FileNotFoundError:
         return None
     except OSError as error:
-        reason = (error.strerror or type(error).__name__).lower()
-        notes.append(f"{path}: cannot read: {reason}; its patterns are not applied")
+        notes.append(f"{path}: cannot read: {os_reason(error)}; its patterns are not applied")
         return None
     from pathspec import GitIgnoreSpec
     from pathspec.patterns.gitignore.spec import GitIgnoreSpecPattern

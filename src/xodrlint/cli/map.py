@@ -26,7 +26,7 @@ from xodrlint.cli.notes import run_notes, say_notes
 from xodrlint.config import ConfigError
 from xodrlint.document import Document, load_bytes
 from xodrlint.engine import SelectorError
-from xodrlint.files import overwrites
+from xodrlint.files import os_reason, overwrites
 from xodrlint.findings import FileReport, Finding, RunResult
 from xodrlint.formatters import get_formatter
 from xodrlint.mapview.locate import Locator
@@ -88,7 +88,7 @@ def run_map(request: MapRequest) -> int:
     try:
         write_output(request.output, partial(_write, rendered.text))
     except OSError as error:
-        error_line(f"--output {request.output}: cannot write: {error.strerror or error}")
+        error_line(f"--output {request.output}: cannot write: {os_reason(error)}")
         return 2
     if not request.check.quiet:
         _print_written(request.output, rendered, time.perf_counter() - started)
@@ -152,8 +152,7 @@ def _read(source: Path) -> bytes:
     try:
         return source.read_bytes()
     except OSError as error:
-        reason = error.strerror or type(error).__name__
-        raise UsageError(f"{source}: {reason[:1].lower()}{reason[1:]}") from None
+        raise UsageError(f"{source}: {os_reason(error)}") from None
 
 
 def _print_report(registry: Registry, report: FileReport, *, quiet: bool) -> None:

@@ -13,8 +13,7 @@ from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 from typing import Final, NamedTuple, TextIO
 
-from xodrlint.api import os_reason
-from xodrlint.files import overwrites
+from xodrlint.files import os_reason, overwrites
 from xodrlint.findings import FileReport, RunResult
 from xodrlint.formatters import Formatter
 from xodrlint.messages import plural

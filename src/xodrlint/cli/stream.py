@@ -20,12 +20,13 @@ from collections.abc import Generator, Iterable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, NamedTuple, TextIO, cast, overload
 
-from xodrlint.api import STDIN, Input, exit_code, os_reason
+from xodrlint.api import STDIN, Input, exit_code
 from xodrlint.cli.inputs import read_stdin
 from xodrlint.cli.notes import NotApplied, hidden_note, run_notes, say_notes
 from xodrlint.cli.reports import withheld_line
 from xodrlint.config import Settings
 from xodrlint.engine import Linter
+from xodrlint.files import os_reason
 from xodrlint.findings import FileReport, RuleMeta, Severity
 from xodrlint.formatters import StreamingFormatter
 from xodrlint.messages import one_line

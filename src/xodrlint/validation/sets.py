@@ -18,7 +18,7 @@ from typing import Final, NamedTuple
 
 from platformdirs import user_data_path
 
-from xodrlint.files import read_regular_file, read_regular_head
+from xodrlint.files import os_reason, read_regular_file, read_regular_head
 
 SCHEMA_PATH_ENV: Final = "XODRLINT_SCHEMA_PATH"
 BUILTIN_DIR: Final = Path(__file__).parent / "builtin"
@@ -46,8 +46,7 @@ def read_schema_file(path: Path) -> bytes:
     try:
         return read_regular_file(path, MAX_SCHEMA_FILE_BYTES)
     except OSError as error:
-        reason = error.strerror or str(error)
-        raise SchemaLoadError(f"cannot read schema {path}: {reason}") from error
+        raise SchemaLoadError(f"cannot read schema {path}: {os_reason(error)}") from error
 
 
 class Origin(StrEnum):
