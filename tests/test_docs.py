@@ -8,7 +8,6 @@ import pytest
 
 from xodrlint.api import default_registry
 from xodrlint.findings import RuleMeta
-from xodrlint.testing.docstrings import section
 from xodrlint.testing.suite import test_doc_pages_are_generated, test_rule_is_documented
 
 from .conftest import REPO
@@ -22,7 +21,7 @@ METAS = tuple(m for m in default_registry().metas if m.origin and m.origin.built
 @pytest.mark.parametrize("meta", METAS, ids=lambda m: m.code)
 def test_every_page_relates_its_rule_to_others(meta: RuleMeta) -> None:
     # a pack's page needs "Related rules" where its rule defers; ours always have one
-    assert section(meta.doc, "Related rules"), f"{meta.code} lacks '## Related rules'"
+    assert meta.section("Related rules"), f"{meta.code} lacks '## Related rules'"
 
 
 # Column "Basis" = I in the catalogue: rules that rest on our reading of the standard.
@@ -101,3 +100,16 @@ def test_the_api_reference_lists_cached_properties_as_attributes() -> None:
     cached, method = (_method(node) for node in tree.body if isinstance(node, ast.FunctionDef))
     assert (cached.name, cached.type) == ("rail_roads", "tuple[Road, ...]")
     assert method.name == "shared(kind)"
+
+
+def test_rule_docstrings_have_one_reader() -> None:
+    """Summary, page and sections come from findings.RuleMeta alone (issue 32, item 4):
+    the rule API, SARIF, the editor's hover, explain and the doc checks ask it."""
+    from xodrlint.findings import RuleMeta, Severity, doc_summary
+
+    doc = "XX001 odd-thing: reports an odd thing.\n\n## What it does\nA\n\n## Why is this bad?\nB\n"
+    meta = RuleMeta("XX001", "odd-thing", "u", Severity.ERROR, doc_summary(doc), doc)
+    assert meta.summary == "reports an odd thing"
+    assert meta.page == "## What it does\nA\n\n## Why is this bad?\nB"
+    assert (meta.section("why is this bad?"), meta.section("What it does")) == ("B", "A")
+    assert meta.section("Options") is None

@@ -4,6 +4,7 @@
 # compiled when the class is made, 2 ms of every run's start-up here (lxml's types,
 # which this module does not import, stay quoted).
 import os
+import re
 from collections.abc import Iterable, Mapping
 from enum import StrEnum
 from pathlib import Path
@@ -291,6 +292,18 @@ class PackInfo(NamedTuple):
         }
 
 
+#: A section heading of a rule's doc page.
+_DOC_HEADING: Final = re.compile(r"^## +(?P<title>.+?)\s*$", re.MULTILINE)
+
+
+def doc_summary(doc: str) -> str:
+    """The summary a rule's docstring opens with: its first line after ``CODE name:``,
+    without a final period."""
+    first = doc.splitlines()[0] if doc else ""
+    summary = first.split(":", 1)[1].strip() if ":" in first else first
+    return summary.rstrip(".")
+
+
 class RuleMeta(NamedTuple):
     """What reports need to know about a rule, without its code.
 
@@ -323,6 +336,22 @@ class RuleMeta(NamedTuple):
     @property
     def uids(self) -> tuple[str, ...]:
         return (self.uid, *self.aliases)
+
+    @property
+    def page(self) -> str:
+        """The rule's doc page: its docstring without the ``CODE name: summary`` line."""
+        return self.doc.partition("\n")[2].strip()
+
+    def section(self, title: str) -> str | None:
+        """The body of the page's ``## title`` section (any case), without the blanks
+        around it; ``None`` when the page has no such section. The one reader of rule
+        docstrings: reports, the editor, ``explain`` and the doc checks all ask it."""
+        headings = list(_DOC_HEADING.finditer(self.doc))
+        for number, heading in enumerate(headings):
+            if heading["title"].lower() == title.lower():
+                end = headings[number + 1].start() if number + 1 < len(headings) else None
+                return self.doc[heading.end() : end].strip()
+        return None
 
     @property
     def since_label(self) -> str | None:

@@ -114,7 +114,7 @@ def explain_rule(token: str, color: str | None = None) -> int:
         + (f" · {pack_label(origin)}" if origin and not origin.builtin else "")
         + "\n\n"
     )
-    body = meta.doc.split("\n", 1)[1] if "\n" in meta.doc else ""
+    body = "\n" + meta.page if meta.page else ""
     styled = color_wanted(color, sys.stdout)
     if styled or interactive(sys.stdout):
         from xodrlint.formatters.text import styled_console

@@ -77,7 +77,6 @@ _SEMVER: Final = re.compile(
     r"(0|[1-9]\d*)\.(0|[1-9]\d*)\.(0|[1-9]\d*)"
     r"(-[0-9A-Za-z-]+(\.[0-9A-Za-z-]+)*)?(\+[0-9A-Za-z-]+(\.[0-9A-Za-z-]+)*)?"
 )
-_SECTION: Final = re.compile(r"^## +(?P<title>.+?)\s*$", re.MULTILINE)
 _LINK: Final = re.compile(r"\[([^\]]+)\]\(([^)\s]+)\)")
 _LIST_ITEM: Final = re.compile(r"^\s*([-*+]|\d+[.)])\s")
 
@@ -201,8 +200,8 @@ def limit_note(total: int, max_results: int) -> str | None:
 
 
 def rule_descriptor(meta: RuleMeta) -> JsonObject:
-    page = doc_page(meta)
-    what = doc_section(meta.doc, "What it does") or meta.summary
+    page = meta.page or meta.summary
+    what = meta.section("What it does") or meta.summary
     descriptor: JsonObject = {
         "id": meta.code,
         "name": meta.name,
@@ -228,22 +227,6 @@ def rule_descriptor(meta: RuleMeta) -> JsonObject:
             descriptor["properties"]["packDistribution"] = origin.distribution
             descriptor["properties"]["packVersion"] = origin.version
     return descriptor
-
-
-def doc_page(meta: RuleMeta) -> str:
-    """The rule's doc page: its docstring without the ``CODE name: summary`` line."""
-    body = meta.doc.partition("\n")[2].strip()
-    return body or meta.summary
-
-
-def doc_section(doc: str, title: str) -> str:
-    """The body of the ``## title`` section of a Markdown doc, ``""`` if it has none."""
-    headings = list(_SECTION.finditer(doc))
-    for i, heading in enumerate(headings):
-        if heading["title"].lower() == title.lower():
-            end = headings[i + 1].start() if i + 1 < len(headings) else len(doc)
-            return doc[heading.end() : end].strip()
-    return ""
 
 
 def plain_text(markdown: str) -> str:

@@ -24,7 +24,7 @@ from collections.abc import Callable, Iterable, Iterator, Mapping
 from types import ModuleType
 from typing import Final, NamedTuple
 
-from xodrlint.findings import OPTION_KINDS, Hit, RuleMeta, RuleOption, Severity
+from xodrlint.findings import OPTION_KINDS, Hit, RuleMeta, RuleOption, Severity, doc_summary
 from xodrlint.model import (
     NON_TRAFFIC_LANE_TYPES,
     RAIL_LANE_TYPES,
@@ -161,15 +161,13 @@ def rule(
     def wrap(check: PlainCheck | ConfiguredCheck) -> Rule:
         module = sys.modules.get(check.__module__)
         doc = inspect.cleandoc(module.__doc__ or "") if module else ""
-        first_line = doc.splitlines()[0] if doc else ""
-        summary = first_line.split(":", 1)[1].strip() if ":" in first_line else first_line
         pack = check.__module__.rsplit(".", 1)[0]
         meta = RuleMeta(
             code,
             name,
             uid,
             severity,
-            summary.rstrip("."),
+            doc_summary(doc),
             doc,
             tuple(aliases),
             pack,

@@ -12,7 +12,6 @@ from lsprotocol import types
 from xodrlint.registry import Registry
 from xodrlint.server.convert import SOURCE
 
-_WHY: Final = re.compile(r"^## Why is this bad\?\s*$(?P<body>.*?)(?=^## |\Z)", re.M | re.S)
 _INDENT: Final = re.compile(r"[ \t]*")
 _DECLARATION: Final = re.compile(r"\s*<\?xml[^>]*\?>")
 #: The code of a file that is not well-formed, which no comment in it can withhold.
@@ -27,10 +26,10 @@ def hover_text(registry: Registry, codes: Sequence[str]) -> str | None:
         if rule is None:
             continue
         meta = rule.meta
-        why = _WHY.search(meta.doc)
+        why = meta.section("Why is this bad?")
         text = f"**{meta.code}** {meta.name}: {meta.summary}"
-        if why and why.group("body").strip():
-            text += "\n\n**Why is this bad?**\n\n" + why.group("body").strip()
+        if why:
+            text += "\n\n**Why is this bad?**\n\n" + why
         parts.append(text)
     return "\n\n---\n\n".join(parts) or None
 

@@ -7,7 +7,7 @@ import re
 from collections.abc import Sequence
 from typing import Final
 
-from xodrlint.findings import RuleMeta, RuleOption
+from xodrlint.findings import RuleMeta
 
 #: Every rule's page has these; "## Options" and "## Related rules" where they apply.
 REQUIRED_SECTIONS: Final = (
@@ -20,14 +20,6 @@ REQUIRED_SECTIONS: Final = (
 _XML_BLOCK: Final = re.compile(r"```xml\n(.*?)```", flags=re.DOTALL)
 
 
-def section(doc: str, heading: str) -> str | None:
-    """The text under ``## heading`` up to the next ``## ``; ``None`` without it."""
-    parts = doc.split(f"## {heading}", 1)
-    if len(parts) < 2:
-        return None
-    return parts[1].split("\n## ", 1)[0]
-
-
 def docstring_problems(meta: RuleMeta, invalid: Sequence[str], valid: Sequence[str]) -> list[str]:
     """What ``meta``'s page lacks; ``invalid`` and ``valid`` are the texts of its cases,
     which its example and its fix must be taken from."""
@@ -37,12 +29,12 @@ def docstring_problems(meta: RuleMeta, invalid: Sequence[str], valid: Sequence[s
         problems.append(
             f"its first line must read '{meta.code} {meta.name}: summary', not {first!r}"
         )
-    if meta.uid not in (section(meta.doc, "References") or ""):
+    if meta.uid not in (meta.section("References") or ""):
         problems.append(f"'References' must name its UID {meta.uid}")
     if "## Example" in meta.doc and "Use instead:" in meta.doc:
         problems += _example_problems(meta, invalid, valid)
-    problems += _option_problems(meta.doc, meta.options)
-    related = section(meta.doc, "Related rules")
+    problems += _option_problems(meta)
+    related = meta.section("Related rules")
     for code in meta.defers_to:
         if related is None or code not in related:
             problems.append(f"defers to {code}; 'Related rules' must say so")
@@ -69,8 +61,9 @@ def _example_problems(meta: RuleMeta, invalid: Sequence[str], valid: Sequence[st
     return problems
 
 
-def _option_problems(doc: str, options: Sequence[RuleOption]) -> list[str]:
-    text = section(doc, "Options")
+def _option_problems(meta: RuleMeta) -> list[str]:
+    options = meta.options
+    text = meta.section("Options")
     if not options:
         return ["documents options it does not have"] if text is not None else []
     if text is None:

@@ -12,7 +12,6 @@ from xodrlint.testing.cases import RuleCase
 
 def render_page(meta: RuleMeta, cases: Iterable[RuleCase], root: Path) -> str:
     """The Markdown doc page of a rule; case paths are shown relative to ``root``."""
-    head = meta.doc.split("\n", 1)
     lines = [
         f"# {meta.code} {meta.name}",
         "",
@@ -35,7 +34,7 @@ def render_page(meta: RuleMeta, cases: Iterable[RuleCase], root: Path) -> str:
             else []
         ),
         "",
-        head[1].strip() if len(head) > 1 else "",
+        meta.page,
         "",
         "## Tested cases",
         "",
