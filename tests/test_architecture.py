@@ -37,8 +37,11 @@ def layered_modules(config: Mapping[str, object]) -> set[str]:
     contracts = config.get("contracts", [])
     assert isinstance(contracts, list)
     for contract in contracts:
+        # a contract with containers names its layers inside each container
+        prefixes = [f"{container}." for container in contract.get("containers", [])] or [""]
         for layer in contract.get("layers", []):
-            named.update(part.strip() for part in re.split(r"[|:]", layer) if part.strip())
+            parts = [part.strip() for part in re.split(r"[|:]", layer) if part.strip()]
+            named.update(prefix + part for prefix in prefixes for part in parts)
     return named
 
 

@@ -29,8 +29,9 @@ from hypothesis import strategies as st
 from referencing import Registry, Resource
 
 from xodrlint.api import default_registry, exit_code
-from xodrlint.cli.check import CheckRequest, prepare_linter, run_check
+from xodrlint.cli.check import prepare_linter, run_check
 from xodrlint.cli.inputs import collect
+from xodrlint.cli.request import CheckRequest
 from xodrlint.cli.stream import Source, Streamed, run_stream, stream_inputs
 from xodrlint.engine import Linter, LintOptions
 from xodrlint.findings import FileReport, Finding, Location, RunResult, Severity

@@ -427,7 +427,8 @@ def check(
     ] = None,
 ) -> None:
     """Lint OpenDRIVE files and report findings."""
-    from xodrlint.cli.check import CheckRequest, run_check
+    from xodrlint.cli.check import run_check
+    from xodrlint.cli.request import CheckRequest
 
     code = run_check(
         CheckRequest(
@@ -581,8 +582,8 @@ def map_command(
     ] = False,
 ) -> None:
     """Draw the network with every finding on it: a self-contained HTML page or an SVG."""
-    from xodrlint.cli.check import CheckRequest
     from xodrlint.cli.map import MapRequest, run_map
+    from xodrlint.cli.request import CheckRequest
 
     lint = CheckRequest(
         paths=(path,),

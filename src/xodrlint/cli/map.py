@@ -21,8 +21,9 @@ from typing import Final, TextIO
 
 from xodrlint import __version__
 from xodrlint.api import default_registry, exit_code
-from xodrlint.cli.check import CheckRequest, UsageError, prepare_linter
+from xodrlint.cli.check import prepare_linter
 from xodrlint.cli.notes import run_notes, say_notes
+from xodrlint.cli.request import CheckRequest, UsageError
 from xodrlint.config import ConfigError
 from xodrlint.document import Document, load_bytes
 from xodrlint.engine import SelectorError

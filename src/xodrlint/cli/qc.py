@@ -133,7 +133,8 @@ def run_qc(
         write_output(None if manifest == STDOUT else manifest, _write_manifest)
         return 0
     from xodrlint.api import default_registry
-    from xodrlint.cli.check import CheckRequest, run_check
+    from xodrlint.cli.check import run_check
+    from xodrlint.cli.request import CheckRequest
 
     try:
         run = _run_for(config, input_file, output, default_registry())

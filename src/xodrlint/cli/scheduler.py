@@ -19,7 +19,7 @@ from xodrlint.findings import FileReport
 from xodrlint.workers.batch import Engine, Task
 
 if TYPE_CHECKING:
-    from xodrlint.cli.check import CheckRequest
+    from xodrlint.cli.request import CheckRequest
 
 #: ``--scheduler local``: a cluster of this machine's own, started for the run (the name
 #: :data:`xodrlint.workers.dask.LOCAL`, not imported from there: that imports Dask).

@@ -37,8 +37,8 @@ from xodrlint.workers.batch import Engine, Task, task_of
 
 if TYPE_CHECKING:
     from xodrlint.baseline import Baseline
-    from xodrlint.cli.check import CheckRequest
     from xodrlint.cli.reports import ExtraReport
+    from xodrlint.cli.request import CheckRequest
     from xodrlint.resolver import Resolver
 
 

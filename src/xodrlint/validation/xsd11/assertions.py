@@ -11,14 +11,11 @@ from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Final
+from typing import Any, Final
 
 from lxml import etree
 
 from xodrlint.validation.xsd11 import NeedsFull
-
-if TYPE_CHECKING:
-    from xodrlint.validation.xsd11.governing import SchemaModel
 
 # XPath in an assertion that might see past its element, where xmlschema's tree (the whole
 # document) and ours (the element) could differ. elementpath stops the parent, ancestor
@@ -173,13 +170,13 @@ class XPathNames:
 
 
 def assertion_errors(
-    model: SchemaModel, element: etree._Element, xsd_type: Any, memo: dict[Any, Any]
+    group: TypeAssertions, element: etree._Element, xsd_type: Any, memo: dict[Any, Any]
 ) -> Iterator[Any]:
-    """xmlschema's errors for the assertions of ``element``'s type, evaluated as
-    ``XsdAssert.__call__`` evaluates them."""
+    """xmlschema's errors for the assertions of ``element``'s type (``group``, as
+    :func:`type_assertions` made them), evaluated as ``XsdAssert.__call__`` evaluates
+    them."""
     from xmlschema import XMLSchemaValidationError
 
-    group = model.assertions_of(xsd_type)
     text = element.text if xsd_type.has_simple_content() else None
     outcome: list[tuple[Any, str]] = []
     if group.pruned:

@@ -225,7 +225,9 @@ class FastXsd11Validator:
             errors = [
                 error
                 for element, xsd_type in plan.asserted
-                for error in assertion_errors(model, element, xsd_type, memo)
+                for error in assertion_errors(
+                    model.assertions_of(xsd_type), element, xsd_type, memo
+                )
             ]
         except NeedsFull:
             raise
