@@ -4,8 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from xodrlint.findings import Hit
-from xodrlint.model import RailNetwork
+from xodrlint.rules import Hit, RailNetwork
 
 
 def stage_hits(network: RailNetwork, code: str) -> Iterator[Hit]:

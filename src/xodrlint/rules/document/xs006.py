@@ -53,8 +53,7 @@ from typing import Final
 from lxml import etree
 
 from xodrlint.findings import CHILD_KINDS, Hit, Severity
-from xodrlint.model import RailNetwork
-from xodrlint.rules import rule
+from xodrlint.rules import RailNetwork, rule
 
 #: Which railroad rule reports a schema identity error better, by kind and element.
 TAKEN_OVER_BY: Final = {

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from xodrlint.model import Lane, Road
+from xodrlint.rules import Lane, Road
 from xodrlint.rules._shared import metres, quoted
 
 

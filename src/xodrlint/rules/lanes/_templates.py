@@ -12,8 +12,8 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from typing import TypeVar
 
-from xodrlint.model import Lane, LaneSection, RailNetwork, Road
 from xodrlint.model.network import section_ranges
+from xodrlint.rules import Lane, LaneSection, RailNetwork, Road
 
 _V = TypeVar("_V")
 

@@ -56,9 +56,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from xodrlint.findings import Hit, Severity
-from xodrlint.model import RailNetwork, Road
-from xodrlint.rules import rule
+from xodrlint.rules import Hit, RailNetwork, Road, Severity, rule
 from xodrlint.rules._shared import metres, quoted
 from xodrlint.rules.lanes._templates import judged_once_per_layout
 

@@ -76,18 +76,21 @@ import math
 from collections.abc import Iterator
 from typing import Final, NamedTuple
 
-from xodrlint.findings import Hit, RuleOption, Severity
-from xodrlint.model import (
+from xodrlint.model.lane_profiles import S_TOLERANCE, centre_terms, extremes
+from xodrlint.rules import (
     NON_TRAFFIC_LANE_TYPES,
     RAIL_LANE_TYPES,
+    Hit,
     Lane,
     LaneSection,
     RailNetwork,
     Road,
+    RuleOption,
+    Settings,
+    Severity,
     number,
+    rule,
 )
-from xodrlint.model.lane_profiles import S_TOLERANCE, centre_terms, extremes
-from xodrlint.rules import Settings, rule
 from xodrlint.rules._shared import first_non_finite, metres
 from xodrlint.rules.lanes._labels import lane_label
 from xodrlint.rules.lanes._templates import judged_once_per_layout, own_lane, ranged_sections

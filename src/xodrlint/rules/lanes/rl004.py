@@ -51,9 +51,15 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from xodrlint.findings import Hit, Severity
-from xodrlint.model import NON_TRAFFIC_LANE_TYPES, RAIL_LANE_TYPES, RailNetwork, Road
-from xodrlint.rules import rule
+from xodrlint.rules import (
+    NON_TRAFFIC_LANE_TYPES,
+    RAIL_LANE_TYPES,
+    Hit,
+    RailNetwork,
+    Road,
+    Severity,
+    rule,
+)
 from xodrlint.rules.lanes._labels import lane_label
 from xodrlint.rules.lanes._templates import judged_once_per_layout, own_lane
 

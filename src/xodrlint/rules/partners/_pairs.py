@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import NamedTuple
 
-from xodrlint.model import PartnerRef, RailNetwork, Switch
+from xodrlint.rules import PartnerRef, RailNetwork, Switch
 
 
 class PartnerPair(NamedTuple):

@@ -52,9 +52,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import Final
 
-from xodrlint.findings import Hit, Severity
-from xodrlint.model import RailNetwork
-from xodrlint.rules import rule
+from xodrlint.rules import Hit, RailNetwork, Severity, rule
 from xodrlint.rules._shared import quoted
 from xodrlint.rules.partners._pairs import partner_pairs
 

@@ -50,9 +50,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from xodrlint.findings import Hit, Severity
-from xodrlint.model import RailNetwork, Switch
-from xodrlint.rules import rule
+from xodrlint.rules import Hit, RailNetwork, Severity, Switch, rule
 from xodrlint.rules._shared import quoted
 
 

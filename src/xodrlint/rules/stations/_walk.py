@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from xodrlint.model import Platform, RailNetwork, Segment, Station
+from xodrlint.rules import Platform, RailNetwork, Segment, Station
 
 
 def platforms_with_station(network: RailNetwork) -> Iterator[tuple[Platform, Station]]:

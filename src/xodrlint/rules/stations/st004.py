@@ -52,9 +52,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from xodrlint.findings import Hit, Severity
-from xodrlint.model import RailNetwork, non_finite
-from xodrlint.rules import Settings, rule
+from xodrlint.rules import Hit, RailNetwork, Settings, Severity, non_finite, rule
 from xodrlint.rules._shared import S_TOLERANCE_OPTION, metres, quoted, within
 from xodrlint.rules.stations._walk import segments_with_platform
 

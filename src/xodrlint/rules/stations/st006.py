@@ -46,9 +46,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from xodrlint.findings import Hit, Severity
-from xodrlint.model import RailNetwork
-from xodrlint.rules import Settings, rule
+from xodrlint.rules import Hit, RailNetwork, Settings, Severity, rule
 from xodrlint.rules._shared import S_TOLERANCE_OPTION, metres, quoted
 from xodrlint.rules.stations._walk import segments_with_platform
 

@@ -55,9 +55,7 @@ from __future__ import annotations
 import heapq
 from collections.abc import Iterator
 
-from xodrlint.findings import Hit, Severity
-from xodrlint.model import Platform, RailNetwork, Segment
-from xodrlint.rules import Settings, rule
+from xodrlint.rules import Hit, Platform, RailNetwork, Segment, Settings, Severity, rule
 from xodrlint.rules._shared import S_TOLERANCE_OPTION, metres, quoted
 from xodrlint.rules.stations._walk import segments_with_platform
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-from xodrlint.model import RailNetwork, Switch
+from xodrlint.rules import RailNetwork, Switch
 from xodrlint.rules.switches._tracks import usable_tracks
 
 if TYPE_CHECKING:

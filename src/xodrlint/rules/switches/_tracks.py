@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from xodrlint.model import RailNetwork, Road, Switch, TrackRef
+from xodrlint.rules import RailNetwork, Road, Switch, TrackRef
 from xodrlint.rules._shared import metres, within
 
 

@@ -41,9 +41,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from xodrlint.findings import Hit, Severity
-from xodrlint.model import RailNetwork
-from xodrlint.rules import rule
+from xodrlint.rules import Hit, RailNetwork, Severity, rule
 from xodrlint.rules._shared import later_duplicates, quoted
 
 

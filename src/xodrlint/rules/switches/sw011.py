@@ -59,9 +59,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import Final
 
-from xodrlint.findings import Hit, RuleOption, Severity
-from xodrlint.model import RailNetwork
-from xodrlint.rules import Settings, rule
+from xodrlint.rules import Hit, RailNetwork, RuleOption, Settings, Severity, rule
 from xodrlint.rules._shared import S_TOLERANCE, S_TOLERANCE_OPTION, beyond, metres, point, quoted
 from xodrlint.rules.switches._geometry import switches_with_points
 

@@ -61,9 +61,7 @@ import math
 from collections.abc import Iterator
 from typing import Final
 
-from xodrlint.findings import Hit, RuleOption, Severity
-from xodrlint.model import RailNetwork
-from xodrlint.rules import Settings, rule
+from xodrlint.rules import Hit, RailNetwork, RuleOption, Settings, Severity, rule
 from xodrlint.rules._shared import S_TOLERANCE, S_TOLERANCE_OPTION, beyond, degrees, metres, quoted
 from xodrlint.rules.switches._geometry import switches_with_points
 from xodrlint.rules.switches.sw011 import TOLERANCE

@@ -20,7 +20,7 @@ from __future__ import annotations
 from collections.abc import Iterator, Sequence
 from typing import TYPE_CHECKING, Final, NamedTuple
 
-from xodrlint.model import Junction, Lane, LaneLink, LaneSection, RailNetwork, Road, RoadLink
+from xodrlint.rules import Junction, Lane, LaneLink, LaneSection, RailNetwork, Road, RoadLink
 
 if TYPE_CHECKING:
     from lxml import etree

@@ -8,7 +8,7 @@ from __future__ import annotations
 from collections.abc import Iterator, Sequence
 from typing import NamedTuple
 
-from xodrlint.model import Lane, LaneLink, LaneSection, RailNetwork, Road
+from xodrlint.rules import Lane, LaneLink, LaneSection, RailNetwork, Road
 from xodrlint.rules.tracks._joints import END_OF, LINK_AT, LaneEnd, TrackLink, end_section
 
 

@@ -7,8 +7,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from xodrlint.findings import Hit
-from xodrlint.model import RailNetwork
+from xodrlint.rules import Hit, RailNetwork
 from xodrlint.rules.tracks._joints import Joint, TrackLink, find_joints, judged_links
 from xodrlint.rules.tracks._lane_links import LaneLinkTarget, lane_link_targets
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from xodrlint.model import RailNetwork, Road
+from xodrlint.rules import RailNetwork, Road
 
 if TYPE_CHECKING:
     from xodrlint.geometry.evaluable import PlanView

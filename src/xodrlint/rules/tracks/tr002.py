@@ -54,9 +54,7 @@ import math
 from collections.abc import Iterator
 from typing import Final
 
-from xodrlint.findings import Hit, RuleOption, Severity
-from xodrlint.model import RailNetwork
-from xodrlint.rules import Settings, rule
+from xodrlint.rules import Hit, RailNetwork, RuleOption, Settings, Severity, rule
 from xodrlint.rules._shared import S_TOLERANCE, beyond
 from xodrlint.rules.tracks.tr001 import TOLERANCE, joint_gaps
 

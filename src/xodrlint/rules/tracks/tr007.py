@@ -47,9 +47,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from xodrlint.findings import Hit, Severity
-from xodrlint.model import Lane, RailNetwork, Road
-from xodrlint.rules import rule
+from xodrlint.rules import Hit, Lane, RailNetwork, Road, Severity, rule
 from xodrlint.rules.tracks._joints import END_OF, Joint, end_section, rail_lanes_at
 from xodrlint.rules.tracks._network import track_network
 

@@ -60,9 +60,7 @@ import math
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
-from xodrlint.findings import Hit, Severity
-from xodrlint.model import RailNetwork, Road
-from xodrlint.rules import Settings, rule
+from xodrlint.rules import Hit, RailNetwork, Road, Settings, Severity, rule
 from xodrlint.rules._shared import S_TOLERANCE, beyond, degrees, metres, point, quoted
 from xodrlint.rules.tracks._planview import track_plan_views
 from xodrlint.rules.tracks.tr001 import TOLERANCE

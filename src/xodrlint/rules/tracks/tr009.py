@@ -54,9 +54,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import TYPE_CHECKING, Final
 
-from xodrlint.findings import Hit, Severity
-from xodrlint.model import RailNetwork, non_finite
-from xodrlint.rules import Settings, rule
+from xodrlint.rules import Hit, RailNetwork, Settings, Severity, non_finite, rule
 from xodrlint.rules._shared import S_TOLERANCE_OPTION, beyond, metres, quoted
 from xodrlint.rules.tracks._planview import track_plan_views
 

@@ -56,9 +56,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import Final
 
-from xodrlint.findings import Hit, RuleOption, Severity
-from xodrlint.model import RailNetwork
-from xodrlint.rules import Settings, rule
+from xodrlint.rules import Hit, RailNetwork, RuleOption, Settings, Severity, rule
 from xodrlint.rules._shared import beyond, metres, quoted
 
 MAX_RAIL: Final = RuleOption(

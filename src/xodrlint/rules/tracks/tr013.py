@@ -63,9 +63,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import TYPE_CHECKING, Final
 
-from xodrlint.findings import Hit, RuleOption, Severity
-from xodrlint.model import RailNetwork
-from xodrlint.rules import Settings, rule
+from xodrlint.rules import Hit, RailNetwork, RuleOption, Settings, Severity, rule
 from xodrlint.rules._shared import S_TOLERANCE, below, metres, quoted
 from xodrlint.rules.tracks._planview import track_plan_views
 

@@ -63,9 +63,7 @@ from typing import TYPE_CHECKING, Final
 
 from lxml import etree
 
-from xodrlint.findings import Hit, Severity
-from xodrlint.model import RailNetwork, Road, number
-from xodrlint.rules import rule
+from xodrlint.rules import Hit, RailNetwork, Road, Severity, number, rule
 from xodrlint.rules._shared import metres, quoted
 from xodrlint.rules.tracks._planview import track_plan_views
 
