@@ -364,8 +364,6 @@ class Linter:
         # A large document validates in a thread (or a child) while the model and the railroad
         # rules run here; the document rules report the stages' problems afterwards.
         pending = self._validators.start(doc) if not fatal and SCHEMA_RULE in self._codes else None
-        stamped: list[_Stamped] = []
-        crashes: list[str] = []
         validation = _Validation(pending, clock)
         if not fatal and has_includes(doc):
             # the schema judges each file as written, so it reads the tree before the
@@ -378,11 +376,11 @@ class Linter:
         clock.lap("model")
         if self._keep_last_document:
             self._last_document = LastDocument(doc, None if fatal else network)
-        self._run(_applied(self._model_rules, not_applied), network, doc, stamped, crashes)
+        runs = [self._run(_applied(self._model_rules, not_applied), network, doc)]
         clock.lap("rules")
         check = validation.result()
         if self._pack_rules:
-            self._run(_applied(self._pack_rules, not_applied), network, doc, stamped, crashes)
+            runs.append(self._run(_applied(self._pack_rules, not_applied), network, doc))
             clock.lap("other packs' rules")
         schema_note = None
         hidden = 0
@@ -394,10 +392,12 @@ class Linter:
             if doc.effective is not None and doc.declared is not None:
                 schema_note = check.schema.version_note(doc.declared, doc.effective)
         document_rules = _applied(self._document_rules, not_applied)
-        self._run(document_rules, RailNetwork(problems=problems), doc, stamped, crashes)
-        kept, withheld = self._apply_suppressions(
-            doc, _one_defect_one_finding(stamped), external, crashes, not_applied
+        runs.append(self._run(document_rules, RailNetwork(problems=problems), doc))
+        stamped = [item for run in runs for item in run.stamped]
+        kept, withheld, late = self._apply_suppressions(
+            doc, _one_defect_one_finding(stamped), external, not_applied
         )
+        crashes = [*(crash for run in runs for crash in run.crashes), *late]
         findings = sorted(kept, key=lambda f: f.sort_key)
         source: dict[int, str] = {}
         if self.options.keep_source:
@@ -431,14 +431,11 @@ class Linter:
         version = (declared.major, declared.minor)
         return frozenset(code for code, since in self._since.items() if version < since)
 
-    def _run(
-        self,
-        rules: Sequence[Rule],
-        network: RailNetwork,
-        doc: Document,
-        stamped: list[_Stamped],
-        crashes: list[str],
-    ) -> None:
+    def _run(self, rules: Sequence[Rule], network: RailNetwork, doc: Document) -> _Ran:
+        """What ``rules`` found in ``network``, and the rules that failed or ran out of
+        time (each at worst its own internal error)."""
+        stamped: list[_Stamped] = []
+        crashes: list[str] = []
         with RuleClock(self.options.rule_timeout) as clock:
             for candidate in rules:
                 # whatever a rule does is at worst its own internal error on this file:
@@ -463,23 +460,23 @@ class Linter:
                     crashes.append(f"rule {candidate.code} failed on {doc.path}: {error!r}")
                 else:
                     stamped.extend(produced)
+        return _Ran(stamped, crashes)
 
     def _apply_suppressions(
         self,
         doc: Document,
         stamped: list[_Stamped],
         external: ExternalIgnores,
-        crashes: list[str],
         not_applied: frozenset[str],
-    ) -> tuple[list[Finding], list[Suppressed]]:
+    ) -> tuple[list[Finding], list[Suppressed], list[str]]:
+        """The findings kept and those withheld, then XL001's on the suppressions that
+        withheld nothing, and that rule's failures."""
         # a map without the word has no suppression comment: skip walking its comments
         texts = (doc.data, *(part.data for part in doc.parts))
         held = any(may_hold_directives(text) for text in texts)
         directives = read_directives(doc.root, doc.path_of if doc.parts else None) if held else []
         suppressions = Suppressions(directives, self._selector_matches, doc.path_of)
-        kept: list[Finding] = []
-        withheld: list[Suppressed] = []
-        self._withhold(stamped, suppressions, external, kept, withheld)
+        kept, withheld = self._withhold(stamped, suppressions, external)
         unused_rules = _applied(self._unused_rules, not_applied)
         if unused_rules and directives:
             # only now is it known which entries withheld something; XL001's own findings
@@ -490,21 +487,18 @@ class Linter:
                 return self._judgeable(selector, ran)
 
             hits = list(unused_hits(doc, suppressions, judgeable))
-            unused: list[_Stamped] = []
-            network = RailNetwork(problems={UNUSED_SUPPRESSION: hits})
-            self._run(unused_rules, network, doc, unused, crashes)
-            self._withhold(unused, suppressions, external, kept, withheld)
-        return kept, withheld
+            unused = self._run(unused_rules, RailNetwork(problems={UNUSED_SUPPRESSION: hits}), doc)
+            more_kept, more_withheld = self._withhold(unused.stamped, suppressions, external)
+            return [*kept, *more_kept], [*withheld, *more_withheld], unused.crashes
+        return kept, withheld, []
 
     def _withhold(
-        self,
-        stamped: list[_Stamped],
-        suppressions: Suppressions,
-        external: ExternalIgnores,
-        kept: list[Finding],
-        withheld: list[Suppressed],
-    ) -> None:
-        """Sort ``stamped`` into ``kept`` and ``withheld`` (by a comment or from outside)."""
+        self, stamped: list[_Stamped], suppressions: Suppressions, external: ExternalIgnores
+    ) -> tuple[list[Finding], list[Suppressed]]:
+        """``stamped`` sorted into the findings kept and those withheld (by a comment or
+        from outside)."""
+        kept: list[Finding] = []
+        withheld: list[Suppressed] = []
         for item in stamped:
             code = item.finding.code
             directive = suppressions.withholding(code, item.element)
@@ -517,6 +511,7 @@ class Linter:
                 withheld.append(Suppressed(item.finding, "external", outside))
             else:
                 kept.append(item.finding)
+        return kept, withheld
 
     def _judgeable(self, selector: str, ran: frozenset[str] | set[str]) -> bool:
         """Whether this run can tell that a suppression entry is stale: it names no
@@ -577,6 +572,13 @@ def _at(related: Sequence[Location]) -> str:
         f"line {place.line}" if place.path is None else f"{place.path} line {place.line}"
         for place in related
     )
+
+
+class _Ran(NamedTuple):
+    """One run of rules over a network: what they found, and how those that failed did."""
+
+    stamped: list[_Stamped]
+    crashes: list[str]
 
 
 class _Stamped(NamedTuple):
