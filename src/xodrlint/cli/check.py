@@ -178,7 +178,11 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
     for warning in registry.warnings:
         error_line(f"warning: {warning}")
     try:
-        plan = _plan(registry, request, formatter)
+        ready = _ready(registry, request, formatter)
+        inputs = _inputs(request, ready.resolver)
+        if request.show_files:
+            return show_files(inputs, request.stdin_filename)
+        plan = _plan(registry, request, ready, inputs)
     except (
         ConfigError,
         SelectorError,
@@ -192,20 +196,17 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
     ) as error:
         error_line(str(error))
         return 2
-    if isinstance(plan, int):  # --show-files
-        return plan
-    settings, linters, formatter, _, inputs, baseline, _, _ = plan
     if request.verbose:
         from xodrlint.cli.verbose import describe_run
 
         readable = sum(1 for item in inputs if item.error is None)
-        codes = (rule.code for rule in linters[0].rules)
-        describe_run(settings, codes, readable, _jobs(request), request.scheduler)
+        codes = (rule.code for rule in plan.linters[0].rules)
+        describe_run(plan.settings, codes, readable, _jobs(request), request.scheduler)
     source = _source(plan, request)
-    streamed = None if request.write_baseline else streaming(formatter)
+    streamed = None if request.write_baseline else streaming(plan.formatter)
     try:
         if streamed is not None:
-            return run_stream(source, streamed, Streamed.of(request, baseline))
+            return run_stream(source, streamed, Streamed.of(request, plan.baseline))
         started = time.perf_counter()
         reports = in_order(stream_inputs(source), len(inputs))
     except (SchemaLoadError, SchedulerUsageError) as error:
@@ -221,10 +222,18 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
     return _report(registry, request, plan, reports)
 
 
-def _plan(registry: Registry, request: CheckRequest, formatter: Formatter | None) -> _Plan | int:
-    """What the check lints and writes, each refused before linting when it cannot be
-    (raising the errors :func:`run_check` makes one line of); ``--show-files`` is done
-    here, and its exit code returned."""
+class _Ready(NamedTuple):
+    """A check whose settings and outputs passed: what it writes with, before its inputs
+    are collected."""
+
+    resolver: Resolver
+    formatter: Formatter
+    extra: list[tuple[ExtraReport, Formatter]]
+
+
+def _ready(registry: Registry, request: CheckRequest, formatter: Formatter | None) -> _Ready:
+    """The settings and formats of a check, each refused before any input is collected
+    (raising the errors :func:`run_check` makes one line of)."""
     resolver = prepare_resolver(registry, request)
     settings = resolver.run
     formatter = formatter or _formatter(settings.output_format, request, settings)
@@ -239,18 +248,29 @@ def _plan(registry: Registry, request: CheckRequest, formatter: Formatter | None
         check_streamable(settings.output_format, (report for report, _ in extra))
     check_stdin(request.paths, request.stdin_filename)
     check_scheduler(request.scheduler, request.scheduler_timeout, request.jobs)
+    return _Ready(resolver, formatter, extra)
+
+
+def _inputs(request: CheckRequest, resolver: Resolver) -> list[Input]:
+    """What the check lints: the paths' files after the settings' exclusions, the part
+    ``--shard`` takes."""
     shard = parse_shard(request.shard) if request.shard is not None else None
-    inputs = collect(request.paths, settings, resolver, request.stdin_filename)
+    inputs = collect(request.paths, resolver.run, resolver, request.stdin_filename)
     if shard is not None:
         inputs = in_shard(inputs, shard, request.stdin_filename)
-    if request.show_files:
-        return show_files(inputs, request.stdin_filename)
+    return inputs
+
+
+def _plan(registry: Registry, request: CheckRequest, ready: _Ready, inputs: list[Input]) -> _Plan:
+    """What the check lints and writes, each refused before linting when it cannot be
+    (raising the errors :func:`run_check` makes one line of)."""
+    resolver = ready.resolver
     # every file's configuration read (and refused) before any is linted
     profiles = array("q", (_profile(resolver, item, request.stdin_filename) for item in inputs))
     read_only = (item.path for item in inputs if item.path is not None)
     check_outputs(
         request.output,
-        extra,
+        ready.extra,
         request.write_baseline,
         read_only,
         (each.config_file for each in resolver.settings if each.config_file is not None),
@@ -263,7 +283,16 @@ def _plan(registry: Registry, request: CheckRequest, formatter: Formatter | None
         baseline = load_baseline(request.baseline)
     linters = Linters(resolver.options, first=_kept_linter(registry, resolver.options[0]))
     linters.built()  # each profile's rules and options refused here, not in a worker
-    return _Plan(settings, linters, formatter, extra, inputs, baseline, resolver, profiles)
+    return _Plan(
+        settings=resolver.run,
+        linters=linters,
+        formatter=ready.formatter,
+        extra=ready.extra,
+        inputs=inputs,
+        baseline=baseline,
+        resolver=resolver,
+        profiles=profiles,
+    )
 
 
 def _report(
@@ -271,7 +300,7 @@ def _report(
 ) -> int:
     """Write the reports of a run that kept them all: its report or statistics and every
     ``--report`` file, or the baseline; returns the exit code."""
-    settings, linters, formatter, extra, _, baseline, resolver, profiles = plan
+    settings, formatter, baseline = plan.settings, plan.formatter, plan.baseline
     for report in reports:
         if report.error:
             error_line(one_line(report.error))  # it names the file: escaped
@@ -293,7 +322,7 @@ def _report(
         __version__,
         notes=run_notes(reports, registry.metas),
         root=checkout_root(),
-        selected=_selected(linters),
+        selected=_selected(plan.linters),
         baseline=None if baseline is None else baseline.path.name,
         withheld=withheld,
     )
@@ -303,7 +332,7 @@ def _report(
         else report_renderer(formatter, result)
     )
     written = [("--output " + str(request.output), request.output, main)]
-    written += [(report.flag, report.path, report_renderer(f, result)) for report, f in extra]
+    written += [(report.flag, report.path, report_renderer(f, result)) for report, f in plan.extra]
     if not write_reports(written):
         return 2
     if baseline is not None and (request.statistics or not says_withheld(formatter)):
@@ -313,13 +342,13 @@ def _report(
         # not checked goes to stderr, after them (where both reach one log, as in
         # pre-commit's)
         say_notes(result.notes)
-    _left_out(formatter, extra)
+    _left_out(formatter, plan.extra)
     # each file fails the run by its own configuration's fail-on; the run's code is the
     # largest of the files' (3 before 2 before 1 before 0)
     return max(
         (
-            exit_code((report,), resolver.settings[profile].fail_on, request.exit_zero)
-            for report, profile in zip(reports, profiles, strict=True)
+            exit_code((report,), plan.resolver.settings[profile].fail_on, request.exit_zero)
+            for report, profile in zip(reports, plan.profiles, strict=True)
         ),
         default=0,
     )
