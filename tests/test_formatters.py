@@ -810,3 +810,26 @@ def test_text_summary_counts_in_the_singular_for_one() -> None:
 )
 def test_plural(count: int, noun: str, nouns: str | None, expected: str) -> None:
     assert plural(count, noun, nouns) == expected
+
+
+def test_a_format_is_given_only_the_options_it_declares() -> None:
+    """Formats take what they use (issue 32, item 6); a plugin taking **options gets
+    both, one taking neither gets none."""
+    from xodrlint.formatters import _declared
+
+    options: dict[str, object] = {"show_source": True, "quiet": True}
+
+    class Neither:
+        pass
+
+    class QuietOnly:
+        def __init__(self, *, quiet: bool = False) -> None:
+            self.quiet = quiet
+
+    def anything(**given: object) -> dict[str, object]:
+        return given
+
+    assert _declared(Neither, options) == {}
+    assert _declared(QuietOnly, options) == {"quiet": True}
+    assert _declared(anything, options) == options
+    assert type(get_formatter("json", show_source=True, quiet=True)).__name__ == "JsonFormatter"

@@ -11,6 +11,7 @@ Formatters see findings and rule metadata only, never rules or the engine.
 from __future__ import annotations
 
 import importlib
+import inspect
 from typing import TYPE_CHECKING, Any, Final, Protocol, TextIO, cast
 
 from xodrlint.findings import FileReport, RunResult
@@ -81,11 +82,13 @@ def get_formatter(
 ) -> Formatter:
     """An instance of the formatter ``name``; ``KeyError`` if there is none.
 
-    Every factory takes ``show_source`` and ``quiet``, a plugin's too. An option of one
-    built-in format goes to that format's factory alone, so plugin factories keep the
-    keywords they were written for: ``color`` (one of ``output.COLOR_CHOICES``, ``None``
-    for "auto") to the text format, ``sarif_max_results`` (at most this many SARIF
-    results, 0 for no limit, ``None`` for the format's default) to the SARIF one.
+    A factory is given the options it declares, as keywords: ``show_source`` and
+    ``quiet`` (a plugin's too, when it takes them; one that takes ``**options`` gets
+    both). An option of one built-in format goes to that format's factory alone, so
+    plugin factories keep the keywords they were written for: ``color`` (one of
+    ``output.COLOR_CHOICES``, ``None`` for "auto") to the text format,
+    ``sarif_max_results`` (at most this many SARIF results, 0 for no limit, ``None`` for
+    the format's default) to the SARIF one.
     """
     extra: dict[str, object] = {}
     if name == "text" and color is not None:
@@ -101,8 +104,20 @@ def get_formatter(
     else:
         module_name, _, attribute = target.partition(":")
         factory = getattr(importlib.import_module(module_name), attribute)
-    formatter: Formatter = factory(show_source=show_source, quiet=quiet, **extra)
+    options = _declared(factory, {"show_source": show_source, "quiet": quiet})
+    formatter: Formatter = factory(**options, **extra)
     return formatter
+
+
+def _declared(factory: Any, options: dict[str, object]) -> dict[str, object]:
+    """The ``options`` ``factory`` takes: formats take only what they use."""
+    try:
+        parameters = inspect.signature(factory).parameters
+    except (TypeError, ValueError):  # no signature to read (a builtin): as before
+        return options
+    if any(p.kind is inspect.Parameter.VAR_KEYWORD for p in parameters.values()):
+        return options
+    return {name: value for name, value in options.items() if name in parameters}
 
 
 def carries_notes(formatter: Formatter) -> bool:

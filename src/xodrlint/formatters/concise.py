@@ -19,9 +19,6 @@ from ._common import single_line
 
 
 class ConciseFormatter:
-    def __init__(self, *, show_source: bool = False, quiet: bool = False) -> None:
-        del show_source, quiet  # always the same lines
-
     def render(self, result: RunResult, stream: TextIO) -> None:
         for finding in result.findings:
             stream.write(line(finding) + "\n")

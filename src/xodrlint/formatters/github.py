@@ -36,9 +36,6 @@ NOTE_TITLE: Final = "xodrlint"
 class GithubFormatter:
     carries_notes = True
 
-    def __init__(self, *, show_source: bool = False, quiet: bool = False) -> None:
-        del show_source, quiet  # annotations only
-
     def render(self, result: RunResult, stream: TextIO) -> None:
         names = {code: meta.name for code, meta in rules_by_code(result).items()}
         for report in result.reports:

@@ -41,9 +41,6 @@ INTERNAL_ERROR_CHECK: Final = "xodrlint:internal-error"
 
 
 class GitlabFormatter:
-    def __init__(self, *, show_source: bool = False, quiet: bool = False) -> None:
-        del show_source, quiet  # the report is always complete
-
     def render(self, result: RunResult, stream: TextIO) -> None:
         json.dump(as_code_quality(result), stream, indent=2, ensure_ascii=False)
         stream.write("\n")

@@ -15,9 +15,6 @@ class JsonFormatter:
     carries_notes = True
     says_withheld = True  # in its summary
 
-    def __init__(self, *, show_source: bool = False, quiet: bool = False) -> None:
-        del show_source, quiet  # the JSON document is always complete
-
     def render(self, result: RunResult, stream: TextIO) -> None:
         """Write ``json.dump(as_document(result), indent=2, ensure_ascii=False)``, byte
         for byte, with each finding written as it comes: the indenting encoder is pure

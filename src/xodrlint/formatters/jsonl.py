@@ -29,9 +29,6 @@ _LINE_BREAKS: Final = str.maketrans({"\x85": "\\u0085", "\u2028": "\\u2028", "\u
 
 
 class JsonlFormatter:
-    def __init__(self, *, show_source: bool = False, quiet: bool = False) -> None:
-        del show_source, quiet  # always the same lines
-
     def render(self, result: RunResult, stream: TextIO) -> None:
         for report in result.reports:
             self.write_file(report, stream)

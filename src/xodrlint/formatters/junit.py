@@ -42,9 +42,6 @@ def xml_text(text: str) -> str:
 
 
 class JunitFormatter:
-    def __init__(self, *, show_source: bool = False, quiet: bool = False) -> None:
-        del show_source, quiet  # the report is always complete
-
     def render(self, result: RunResult, stream: TextIO) -> None:
         stream.write(DECLARATION)
         stream.write(etree.tostring(as_junit(result), encoding="unicode", pretty_print=True))

@@ -90,11 +90,8 @@ class SarifFormatter:
     def __init__(
         self,
         *,
-        show_source: bool = False,
-        quiet: bool = False,
         max_results: int = DEFAULT_SARIF_MAX_RESULTS,
     ) -> None:
-        del show_source, quiet  # the log is complete up to ``max_results``
         if max_results < 0:
             raise ValueError(f"max_results must be 0 (no limit) or more, got {max_results}")
         self.max_results = max_results

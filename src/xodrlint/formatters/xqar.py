@@ -71,12 +71,9 @@ class XqarFormatter:
     def __init__(
         self,
         *,
-        show_source: bool = False,
-        quiet: bool = False,
         params: Sequence[tuple[str, str]] = (),
         levels: Mapping[str, LevelRange] | None = None,
     ) -> None:
-        del show_source, quiet  # the result file is always complete
         self._params = tuple(params)
         self._levels = dict(levels or {})
 
