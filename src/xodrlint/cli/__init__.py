@@ -1,5 +1,5 @@
-"""The command layer: the ``xodrlint`` command line, a thin client of the engine and the
-Python API.
+"""The command layer: the ``xodrlint`` command line, over the engine, the Python API,
+the per-file configuration, the workers and the reports.
 
 - :mod:`~xodrlint.cli.commands`: the typer app, every command declared (options, help);
 - :mod:`~xodrlint.cli.entry`: the console entry point (exit codes, fast exit);
