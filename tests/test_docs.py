@@ -41,20 +41,20 @@ def test_inferred_rules_say_so(meta: RuleMeta) -> None:
 
 
 def test_output_formats_page_is_generated() -> None:
-    from xodrlint.cli.docgen import formats_page
+    from xodrlint.devtools.docgen import formats_page
 
     page = REPO / "docs" / "output-formats.md"
     assert page.read_text("utf-8") == formats_page(REPO), (
-        "docs/output-formats.md is stale: run python -m xodrlint.cli.docgen"
+        "docs/output-formats.md is stale: run python -m xodrlint.devtools.docgen"
     )
 
 
 def test_plugins_page_reference_is_generated() -> None:
-    from xodrlint.cli.apidoc import PAGE, replace_section
+    from xodrlint.devtools.apidoc import PAGE, replace_section
 
     page = (REPO / PAGE).read_text("utf-8")
     assert page == replace_section(page), (
-        "docs/plugins.md's rule API reference is stale: run python -m xodrlint.cli.docgen"
+        "docs/plugins.md's rule API reference is stale: run python -m xodrlint.devtools.docgen"
     )
 
 
@@ -73,7 +73,7 @@ def test_the_generated_reference_names_every_field_of_the_model() -> None:
     import dataclasses
 
     import xodrlint.model
-    from xodrlint.cli.apidoc import reference
+    from xodrlint.devtools.apidoc import reference
 
     text = reference()
     for name in ("RailNetwork", "Switch", "Segment", "Lane"):
@@ -91,7 +91,7 @@ def test_the_generated_reference_names_every_field_of_the_model() -> None:
 def test_the_api_reference_lists_cached_properties_as_attributes() -> None:
     import ast
 
-    from xodrlint.cli.apidoc import _method
+    from xodrlint.devtools.apidoc import _method
 
     tree = ast.parse(
         "@cached_property\ndef rail_roads(self) -> tuple[Road, ...]:\n    '''Roads.'''\n"

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from xodrlint.cli import docgen
+from xodrlint.devtools import docgen
 from xodrlint.testing import PackError, RulePack, find_cases, read_case
 
 from .conftest import REPO
@@ -248,7 +248,7 @@ def test_stale_missing_and_stray_pages(pack: RulePack) -> None:
     assert pack.page_problems() == [
         "docs/rules/AC001.md is out of date",
         "docs/rules/AC404.md is the page of no rule",
-        f"write them: python -m xodrlint.cli.docgen --pack {pack.targets[0]}",
+        f"write them: python -m xodrlint.devtools.docgen --pack {pack.targets[0]}",
     ]
     assert pack.write_pages() == [page]
     page.unlink()

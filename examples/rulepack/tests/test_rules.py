@@ -1,7 +1,7 @@
 """The pack's rules run through xodrlint.testing, the runner xodrlint's own rules use:
 each case under rules/ with its expect marks, each docstring a complete page whose
 examples are tested cases, a valid_ and an invalid_ case for every rule, and docs/rules/
-as the generator writes it (python -m xodrlint.cli.docgen --pack xodrlint_houserules).
+as the generator writes it (python -m xodrlint.devtools.docgen --pack xodrlint_houserules).
 The plugin is configured in pyproject.toml ([tool.pytest.ini_options])."""
 
 from xodrlint.testing.suite import (

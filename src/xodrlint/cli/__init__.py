@@ -6,8 +6,6 @@ the per-file configuration, the workers and the reports.
 - one module per command, doing its work: :mod:`~xodrlint.cli.check`,
   :mod:`~xodrlint.cli.map`, :mod:`~xodrlint.cli.qc`, :mod:`~xodrlint.cli.rules`
   (``rules`` and ``explain``), :mod:`~xodrlint.cli.schemas`, :mod:`~xodrlint.cli.config`;
-- :mod:`~xodrlint.cli.docgen`: the developers' command that writes ``docs/rules`` (a pack's too)
-  and the generated parts of the docs (:mod:`~xodrlint.cli.apidoc`: the rule API).
 
 ``app`` and ``main`` are loaded on first use, so a module that imports one command's
 work (``xodrlint.cli.check``) does not load typer and every declaration.

@@ -194,4 +194,4 @@ class RulePack:
 def write_command(pack: RulePack) -> str:
     """The command that writes ``pack``'s pages, to be run in its root."""
     targets = " ".join(f"--pack {target}" for target in pack.targets)
-    return f"python -m xodrlint.cli.docgen {targets}"
+    return f"python -m xodrlint.devtools.docgen {targets}"

@@ -3,7 +3,7 @@
 Every name a pack may import (``xodrlint.rules.__all__``), and every field, property and
 method of the model types a rule reads, with its type as the source writes it and the
 first paragraph of its docstring. The model's types come in the order a rule meets
-them, from :class:`~xodrlint.model.RailNetwork` down. ``python -m xodrlint.cli.docgen``
+them, from :class:`~xodrlint.model.RailNetwork` down. ``python -m xodrlint.devtools.docgen``
 writes it between the page's markers; tests/test_docs.py fails when it is stale.
 """
 
@@ -17,7 +17,7 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Final, NamedTuple
 
-BEGIN: Final = "<!-- begin generated: the rule API (python -m xodrlint.cli.docgen) -->"
+BEGIN: Final = "<!-- begin generated: the rule API (python -m xodrlint.devtools.docgen) -->"
 END: Final = "<!-- end generated -->"
 PAGE: Final = Path("docs") / "plugins.md"
 _IDENTIFIER: Final = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
