@@ -114,7 +114,7 @@ def explain_rule(token: str, color: str | None = None) -> int:
         + (f" · {pack_label(origin)}" if origin and not origin.builtin else "")
         + "\n\n"
     )
-    body = "\n" + meta.page if meta.page else ""
+    body = meta.doc.partition("\n")[2]  # the page as its author wrote it, blank lines too
     styled = color_wanted(color, sys.stdout)
     if styled or interactive(sys.stdout):
         from xodrlint.formatters.text import styled_console
