@@ -17,7 +17,7 @@ put on the road's own element, found by position.
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING, Final, NamedTuple
 
 from xodrlint.rules import Junction, Lane, LaneLink, LaneSection, RailNetwork, Road, RoadLink
@@ -182,14 +182,41 @@ def lane_ids(section: LaneSection) -> str:
 def judged_links(network: RailNetwork) -> list[TrackLink]:
     found: list[TrackLink] = []
     repeated = _repeated_road_ids(network)
+    road_by_id = network.road_by_id
     for road in network.rail_roads:
         for link in road.links:
-            judged = _judge(network, road, link, repeated)
+            judged = None if repeated else _answered(road, link, road_by_id)
+            if judged is None:
+                judged = _judge(network, road, link, repeated)
             if judged is not None:
                 found.append(judged)
     if all(judged.fault != NOT_ANSWERED for judged in found):
         return found
     return list(_pairs_reported_once(found))
+
+
+def _answered(road: Road, link: RoadLink, road_by_id: Mapping[str, Road]) -> TrackLink | None:
+    """The judgement of a link that joins two tracks and is named back (nearly every
+    link of a railway, so judged here first without words); ``None`` for any other link,
+    which :func:`_judge` judges."""
+    contact = link.contact_point
+    if link.element_type != "road" or contact not in LINK_AT:
+        return None
+    target = road_by_id.get(link.element_id)  # type: ignore[arg-type]
+    if target is None or not target.has_rail_lane or road.id is None:
+        return None
+    kind, end = LINK_AT[contact], END_OF[link.kind]
+    for answer in target.links:
+        if answer.kind == kind:
+            back = answer.contact_point
+            if (
+                answer.element_type == "road"
+                and answer.element_id == road.id
+                and (back == end or back not in LINK_AT)
+            ):
+                return TrackLink(road, link, end, target, None, False, "")
+            return None
+    return None
 
 
 def _pairs_reported_once(found: list[TrackLink]) -> Iterator[TrackLink]:
@@ -334,11 +361,12 @@ def _connects(junction: Junction, road: Road) -> bool:
 def find_joints(network: RailNetwork, links: Sequence[TrackLink]) -> Iterator[Joint]:
     tracks: TrackGeometry | None = None
     # each joint is named by the links of both its roads (or twice by one): the pairs of
-    # road ends joined so far
-    seen: set[tuple[int, str, int, str]] = set()
+    # road ends joined so far (roads and layouts hash by identity: no id() calls, a
+    # railway passes here for each of its thousands of joints)
+    seen: set[tuple[Road, str, Road, str]] = set()
     # the joined lanes of each pair of lane layouts and ends, as (section, lane) positions:
     # a railway joins thousands of tracks of a few layouts
-    layouts: dict[tuple[int, str, int, str], _LanePairs] = {}
+    layouts: dict[tuple[Road, str, Road, str], _LanePairs] = {}
     for road, link, end, target, fault, reported, _ in links:
         target_end = link.contact_point
         if target is None or not target.has_rail_lane or target_end not in LINK_AT:
@@ -348,37 +376,41 @@ def find_joints(network: RailNetwork, links: Sequence[TrackLink]) -> Iterator[Jo
         assert target_end is not None
         # either way round: named by the other road's link, or by a second link of this
         # road's end (a link written twice)
-        ends = (id(road), end, id(target), target_end)
-        if ends in seen or (id(target), target_end, id(road), end) in seen:
+        ends = (road, end, target, target_end)
+        if ends in seen or (target, target_end, road, end) in seen:
             continue
         seen.add(ends)
         if tracks is None:
             from xodrlint.geometry.tracks import TrackGeometry  # loaded only for a railway
 
             tracks = network.shared(TrackGeometry)
-        first_layout, second_layout = road.lane_template, target.lane_template
-        layout = (id(first_layout), end, id(second_layout), target_end)
+        layout = (road.lane_template, end, target.lane_template, target_end)
         joined = layouts.get(layout)
         if joined is None:
-            joined = layouts[layout] = _lane_pairs(first_layout, end, second_layout, target_end)
+            joined = layouts[layout] = _lane_pairs(layout[0], end, layout[2], target_end)
+        end_point = tracks.lane_end_point
         lanes = tuple(
-            _joined(tracks, road, first, end, target, second, target_end)
-            for first, second in joined.pairs
+            _joined(
+                road,
+                first_at,
+                end_point(road, first_at[2], first_at[3], end),
+                target,
+                second_at,
+                end_point(target, second_at[2], second_at[3], target_end),
+            )
+            for first_at, second_at in joined.pairs
         )
         yield Joint(link, road, end, target, target_end, fault is None, lanes, joined.joins_all)
 
 
 def _joined(
-    tracks: TrackGeometry,
     first: Road,
     first_at: _LanePosition,
-    first_end: str,
+    first_point: TrackPoint | None,
     second: Road,
     second_at: _LanePosition,
-    second_end: str,
+    second_point: TrackPoint | None,
 ) -> JoinedLanes:
-    first_point = tracks.lane_end_point(first, first_at[2], first_at[3], first_end)
-    second_point = tracks.lane_end_point(second, second_at[2], second_at[3], second_end)
     gap = None
     if first_point is not None and second_point is not None:
         gap = first_point.distance_to(second_point)
