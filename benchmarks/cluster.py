@@ -167,7 +167,7 @@ def _client_run(argv: list[str], env: dict[str, str]) -> tuple[float, float]:
 def measure_overhead(check: list[str], env: dict[str, str], folder: Path, rounds: int) -> Overhead:
     """``rounds`` runs of ``check --scheduler`` on ``folder`` against a scheduler with two
     workers, each process's CPU time measured."""
-    from xodrlint.workers.batch import schedule
+    from xodrlint.runners.batch import schedule
 
     files = sorted(folder.iterdir())
     sizes = [path.stat().st_size for path in files]
@@ -200,7 +200,7 @@ def _terms(found: Overhead, files: int, threads: int, tasks: int) -> dict[str, f
 
 def model(found: Overhead, cores: int) -> list[str]:
     """The lines of the projection: files a second on N machines of ``cores`` cores."""
-    from xodrlint.workers.batch import schedule
+    from xodrlint.runners.batch import schedule
 
     start = found.start
     lines = [

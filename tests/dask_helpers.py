@@ -12,10 +12,10 @@ from typing import Any
 
 from distributed import WorkerPlugin
 
-from xodrlint.engine import ExternalIgnores, Linter
+from xodrlint.engine.linter import ExternalIgnores, Linter
 from xodrlint.findings import FileReport
 
-#: The keys of the engine's tasks (see xodrlint.workers.dask._run).
+#: The keys of the engine's tasks (see xodrlint.runners.dask._run).
 LINT_KEY = "xodrlint-lint-"
 
 LintPath = Callable[[Linter, Path, str | None, ExternalIgnores], FileReport]
@@ -125,4 +125,4 @@ class BrokenLinterPlugin(WorkerPlugin):
         self.options = options
 
     def setup(self, worker: object) -> None:
-        raise ModuleNotFoundError("No module named 'xodrlint.workers.dask'")
+        raise ModuleNotFoundError("No module named 'xodrlint.runners.dask'")

@@ -57,7 +57,7 @@ def outside_every_layer(
     modules: Iterable[str], layered: set[str], root: Path = PACKAGE
 ) -> list[str]:
     """Modules no layer places. A package whose ``__init__`` imports nothing needs no
-    place of its own (``workers/``: its modules sit in different layers)."""
+    place of its own (``engine/``: its modules sit in different layers)."""
     return [
         module
         for module in modules

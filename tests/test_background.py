@@ -11,8 +11,8 @@ from pathlib import Path
 import pytest
 
 from xodrlint.api import default_registry
-from xodrlint.engine import Linter, LintOptions
-from xodrlint.workers import background
+from xodrlint.concurrency import background
+from xodrlint.engine.linter import Linter, LintOptions
 
 from .conftest import REPO, SHARED_SCHEMAS, needs_shared
 
@@ -158,7 +158,7 @@ def test_no_fork_while_a_thread_python_does_not_list_runs() -> None:
     import threading
     import time
 
-    from xodrlint.workers import batch
+    from xodrlint.runners import batch
 
     _until_single_threaded()  # a thread of the test before may still be ending
     assert batch._can_fork_workers()
@@ -220,7 +220,7 @@ def test_the_compile_started_while_parsing_has_ended_when_validation_starts(
     # the compile thread may not have taken its lock yet when validation compiles the set
     # itself, or may let go of it a moment before it ends: were it still running, a large
     # map's validation would not fork and the run would lose its overlap
-    from xodrlint.document import Version, load_bytes
+    from xodrlint.document.load import Version, load_bytes
     from xodrlint.validation.sets import SchemaFinder
     from xodrlint.validation.validators import SchemaValidators
 

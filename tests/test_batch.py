@@ -15,10 +15,10 @@ from typer.testing import CliRunner, Result
 
 from xodrlint.api import default_registry
 from xodrlint.cli import app
-from xodrlint.engine import Linter, LintOptions
+from xodrlint.engine.linter import Linter, LintOptions
 from xodrlint.findings import FileReport
-from xodrlint.workers import batch
-from xodrlint.workers.batch import (
+from xodrlint.runners import batch
+from xodrlint.runners.batch import (
     MAX_FILES_PER_MESSAGE,
     SHARE_PER_MESSAGE,
     Task,
@@ -126,7 +126,7 @@ def test_progress_bar_only_on_a_terminal_and_for_a_batch(
 ) -> None:
     import sys
 
-    from xodrlint.workers.batch import MIN_FILES_FOR_PROGRESS, _Progress
+    from xodrlint.runners.batch import MIN_FILES_FOR_PROGRESS, _Progress
 
     monkeypatch.delenv("CI", raising=False)
     monkeypatch.delenv("TERM", raising=False)
@@ -192,7 +192,7 @@ def test_equal_sizes_keep_input_order_and_one_file_is_one_message() -> None:
 def test_a_process_running_threads_gets_fresh_workers_not_forks(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from xodrlint.workers import forkpool
+    from xodrlint.concurrency import forkpool
 
     def no_fork(*_: object) -> list[int]:
         raise AssertionError("forked a process that runs threads")
@@ -217,7 +217,8 @@ def test_a_process_running_threads_gets_fresh_workers_not_forks(
 def test_batch_workers_keep_their_work_in_one_thread(monkeypatch: pytest.MonkeyPatch) -> None:
     # every core already lints a file of its own: a validation thread per file only adds
     # switches (-j 2 on 200 small maps: 0.30 s with threads, 0.27 s without)
-    from xodrlint.workers import background, batch
+    from xodrlint.concurrency import background
+    from xodrlint.runners import batch
 
     monkeypatch.setenv(background.ENV, "1")  # restored afterwards
     seen: list[bool] = []

@@ -11,7 +11,7 @@ from types import ModuleType
 import pytest
 
 from xodrlint.api import default_registry
-from xodrlint.engine import Linter, LintOptions
+from xodrlint.engine.linter import Linter, LintOptions
 
 from .conftest import REPO, SHARED_SCHEMAS, needs_shared
 
@@ -70,7 +70,7 @@ def test_the_railway_passes_the_official_schema(tmp_path: Path, minor: int) -> N
 
 def test_the_railway_is_rail_dense(tmp_path: Path) -> None:
     # every road a track: one rail lane each, linked to the next, a switch every 100-200 m
-    from xodrlint.document import load_bytes
+    from xodrlint.document.load import load_bytes
     from xodrlint.model import build_network
 
     path = tmp_path / "railway.xodr"

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from xodrlint import cache, plugins
+from xodrlint.config import cache, plugins
 from xodrlint.validation.xsd11.form import MANIFEST, full_validator, xsd10_form
 
 NOBODY = 65534

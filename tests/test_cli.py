@@ -22,7 +22,7 @@ from typer.testing import CliRunner, Result
 from xodrlint import __version__
 from xodrlint.api import default_registry
 from xodrlint.cli import app
-from xodrlint.cli.notes import FULL_VALIDATION_NOTE
+from xodrlint.cli.check.notes import FULL_VALIDATION_NOTE
 from xodrlint.validation.store import install_wheel
 
 from .conftest import REPO
@@ -716,16 +716,38 @@ def test_python_dash_m_runs_the_command_and_a_spawned_worker_does_not() -> None:
     runpy.run_module("xodrlint", run_name="__mp_main__")
 
 
-def test_the_last_linter_outlives_its_run_and_only_the_last() -> None:
-    # the command line exits without cleanup: the last map's tree is never freed, but a
-    # process running many checks holds one linter at most
-    from xodrlint.cli import check
+def test_the_entry_point_keeps_what_check_and_map_need_not_free(tmp_path: Path) -> None:
+    # the command line exits without tearing down (cli.entry): the last map's tree, and
+    # the linter holding it, go into the list the entry point hands each command, and
+    # nowhere else (a run of the API or of a test frees them with the run)
+    from xodrlint.engine.linter import Linter
 
-    cli("check", CLEAN, code=0)
-    (kept,) = check._LAST_LINTER
-    cli("check", CLEAN, code=0)
-    (replaced,) = check._LAST_LINTER
-    assert replaced is not kept
+    for args in (["check", str(CLEAN)], ["map", str(CLEAN), "-o", str(tmp_path / "m.html")]):
+        kept: list[object] = []
+        result = CliRunner().invoke(app, args, obj=kept, env=PLAIN_ENV)
+        assert result.exit_code == 0, result.stderr
+        (linter,) = kept
+        assert isinstance(linter, Linter)
+        last = linter.last_document
+        assert last is not None and last.document.path == str(CLEAN)
+
+
+def test_main_hands_its_keep_alive_list_to_the_command(monkeypatch: pytest.MonkeyPatch) -> None:
+    from xodrlint.cli import entry
+
+    handed: list[object] = []
+
+    def command(**extra: object) -> None:
+        handed.append(extra.get("obj"))
+        raise SystemExit(0)
+
+    monkeypatch.setattr(entry, "app", command)
+    monkeypatch.setattr(entry, "_invoked_alone", lambda argv: None)
+    monkeypatch.setattr(sys, "argv", ["xodrlint", "check", str(CLEAN)])
+    monkeypatch.setenv(entry.FAST_EXIT_ENV, "0")
+    with pytest.raises(SystemExit):
+        entry.main()
+    assert handed == [[]]
 
 
 def test_schemas_fetch_without_pip_says_how_to_fetch_by_hand(
@@ -759,7 +781,7 @@ def test_schemas_fetch_without_pip_says_how_to_fetch_by_hand(
 
 
 def test_a_19_file_without_its_set_is_told_where_the_set_comes_from() -> None:
-    from xodrlint.cli.notes import FULL_VALIDATION_NOTE, run_notes
+    from xodrlint.cli.check.notes import FULL_VALIDATION_NOTE, run_notes
     from xodrlint.findings import FileReport
 
     old = FileReport("a.xodr", declared_version="1.7", schema="built-in", schema_builtin=True)

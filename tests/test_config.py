@@ -15,8 +15,10 @@ from typer.testing import CliRunner, Result
 
 from xodrlint.api import default_registry
 from xodrlint.cli import app
-from xodrlint.config import ConfigError, find_config, matches, read_config
+from xodrlint.config.discovery import find_config
+from xodrlint.config.settings import ConfigError, read_config
 from xodrlint.findings import Hit
+from xodrlint.inputs.globs import matches
 
 from .conftest import REPO
 
@@ -218,8 +220,8 @@ def test_config_command_shows_defaults_and_sources(tmp_path: Path) -> None:
 def _with_a_plugin_option(monkeypatch: pytest.MonkeyPatch) -> None:
     """A plugin rule declaring an option of its own, installed for ``config``."""
     from xodrlint.findings import RuleOption, Severity
-    from xodrlint.registry import Registry
     from xodrlint.rules import RailNetwork, rule
+    from xodrlint.rules.registry import Registry
 
     @rule(
         code="AC002",
@@ -300,7 +302,7 @@ def test_an_exclude_pattern_never_backtracks_for_ever(
     # as a backtracking regular expression these took more than 100 s; a hang guard in a
     # child process, not a timing: the matcher's work is bounded by the sizes involved
     code = (
-        "import sys; from xodrlint.config import glob_matches; "
+        "import sys; from xodrlint.config.settings import glob_matches; "
         "print(glob_matches(sys.argv[1], sys.argv[2]))"
     )
     done = subprocess.run(

@@ -28,10 +28,10 @@ from distributed import Client, LocalCluster
 
 import xodrlint
 from xodrlint.cli import app
-from xodrlint.engine import LintOptions
-from xodrlint.workers import dask as engine
-from xodrlint.workers.batch import Task, schedule
-from xodrlint.workers.dask import lint_on_cluster
+from xodrlint.engine.linter import LintOptions
+from xodrlint.runners import dask as engine
+from xodrlint.runners.batch import Task, schedule
+from xodrlint.runners.dask import lint_on_cluster
 
 from .conftest import REPO
 from .dask_helpers import (
@@ -441,7 +441,7 @@ def test_workers_that_cannot_build_a_linter_are_one_line_and_exit_2(
     assert result.exit_code == 2
     assert result.stderr == (
         f"xodrlint: --scheduler {cluster.scheduler_address}: the workers cannot build a linter "
-        "(No module named 'xodrlint.workers.dask'): install this xodrlint, "
+        "(No module named 'xodrlint.runners.dask'): install this xodrlint, "
         f"{xodrlint.__version__}, with the same rule plugins, where they run\n"
     )
 

@@ -30,7 +30,7 @@ import xodrlint
 from xodrlint.api import default_registry
 from xodrlint.cli import app
 from xodrlint.distributed import lint_partition, lint_paths
-from xodrlint.engine import Linter, LintOptions
+from xodrlint.engine.linter import Linter, LintOptions
 from xodrlint.findings import FileReport
 
 from .conftest import REPO

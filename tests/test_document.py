@@ -7,7 +7,7 @@ import codecs
 import pytest
 from lxml import etree
 
-from xodrlint.document import ASAM_LEGACY_NAMESPACE, Version, load_bytes, nearest_published
+from xodrlint.document.load import ASAM_LEGACY_NAMESPACE, Version, load_bytes, nearest_published
 
 HEADER = '<header revMajor="1" revMinor="7"/>'
 
@@ -237,7 +237,7 @@ def test_xpath_steps_are_built_once_per_sibling_group() -> None:
 
 
 def test_a_file_in_the_namespace_of_the_11_and_12_schemas_is_read_without_it() -> None:
-    from xodrlint.document import load_bytes
+    from xodrlint.document.load import load_bytes
 
     doc = load_bytes(
         b'<OpenDRIVE xmlns="www.vires.com"><header revMajor="1" revMinor="2"/></OpenDRIVE>',

@@ -12,12 +12,13 @@ from pathlib import Path
 
 import pytest
 
-from xodrlint.document import Document
-from xodrlint.engine import Linter, LintOptions, SelectorError, select_rules
+from xodrlint.document.load import Document
+from xodrlint.engine.linter import Linter, LintOptions
 from xodrlint.findings import Hit, Severity
 from xodrlint.model import RailNetwork
-from xodrlint.registry import Registry, load_registry
 from xodrlint.rules import rule
+from xodrlint.rules.registry import Registry, load_registry
+from xodrlint.rules.selection import SelectorError, select_rules
 
 from .conftest import REPO
 
@@ -154,7 +155,9 @@ def test_a_linter_keeps_only_the_last_document_and_only_when_asked(
     monkeypatch: pytest.MonkeyPatch, keep: bool
 ) -> None:
     # a process that exits without cleanup (the CLI) never pays for freeing the last tree
-    from xodrlint import document, engine, model
+    from xodrlint import model
+    from xodrlint.document import load as document
+    from xodrlint.engine import linter as engine
 
     loaded: list[weakref.ref[Document]] = []
 
@@ -217,7 +220,8 @@ def test_the_collector_is_paused_while_a_document_is_linted(
 ) -> None:
     # a model is millions of young objects: collecting them as they are made cost
     # time growing with the square of the map
-    from xodrlint import engine, model
+    from xodrlint import model
+    from xodrlint.engine import linter as engine
 
     seen: list[bool] = []
 

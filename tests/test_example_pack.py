@@ -12,7 +12,7 @@ import sys
 import tomllib
 from pathlib import Path
 
-from xodrlint.registry import ENTRY_POINT_GROUP
+from xodrlint.rules.registry import ENTRY_POINT_GROUP
 
 from .conftest import REPO
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from xodrlint.workers.forkpool import IN_FLIGHT, run_pieces
+from xodrlint.concurrency.forkpool import IN_FLIGHT, run_pieces
 
 from .conftest import record_forks
 

@@ -23,8 +23,8 @@ from typer.testing import CliRunner
 from xodrlint import __version__
 from xodrlint.api import default_registry
 from xodrlint.cli import app
-from xodrlint.cli.notes import FULL_VALIDATION_NOTE
-from xodrlint.engine import Linter, LintOptions
+from xodrlint.cli.check.notes import FULL_VALIDATION_NOTE
+from xodrlint.engine.linter import Linter, LintOptions
 from xodrlint.findings import (
     FileReport,
     Finding,

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 from lxml import etree
 
-from xodrlint.document import hardened_parser
+from xodrlint.document.load import hardened_parser
 from xodrlint.geometry import (
     Arc,
     Line,

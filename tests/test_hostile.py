@@ -22,7 +22,7 @@ import pytest
 from lxml import etree
 
 from xodrlint.api import lint_bytes
-from xodrlint.document import load_bytes
+from xodrlint.document.load import load_bytes
 from xodrlint.messages import MAX_MESSAGE_LENGTH
 
 from .wellformed import assert_well_formed

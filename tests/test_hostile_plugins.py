@@ -12,9 +12,9 @@ from typing import Any
 
 import pytest
 
-from xodrlint.engine import Linter, LintOptions
-from xodrlint.plugins import Plugin, installed
-from xodrlint.registry import ENTRY_POINT_GROUP, load_registry
+from xodrlint.config.plugins import Plugin, installed
+from xodrlint.engine.linter import Linter, LintOptions
+from xodrlint.rules.registry import ENTRY_POINT_GROUP, load_registry
 
 from .conftest import REPO, SHARED_SCHEMAS, needs_shared
 
@@ -163,8 +163,8 @@ def test_the_limit_is_per_rule_not_per_file() -> None:
     from collections.abc import Iterator
 
     from xodrlint.findings import Hit, Severity
-    from xodrlint.registry import Registry
     from xodrlint.rules import rule
+    from xodrlint.rules.registry import Registry
 
     def slow(code: str) -> object:
         @rule(code=code, name="slow", uid=f"test:{code}", severity=Severity.INFO)

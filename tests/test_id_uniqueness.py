@@ -11,12 +11,12 @@ import pytest
 from lxml import etree
 
 from xodrlint.api import default_registry
-from xodrlint.document import load_bytes
-from xodrlint.engine import Linter, LintOptions
+from xodrlint.concurrency.background import receive_hits, send_hits
+from xodrlint.document.load import load_bytes
+from xodrlint.engine.linter import Linter, LintOptions
 from xodrlint.findings import FileReport, Hit
 from xodrlint.validation.libxml2 import BuiltinRailroadValidator, _maybe_repeated
 from xodrlint.validation.sets import builtin_set
-from xodrlint.workers.background import receive_hits, send_hits
 
 from .conftest import REPO, SHARED_SCHEMAS, needs_shared
 from .test_benchmarks import RAILWAY

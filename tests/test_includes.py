@@ -12,7 +12,7 @@ from typing import Any
 import pytest
 
 from xodrlint.findings import FileReport, Finding, Severity
-from xodrlint.registry import load_registry
+from xodrlint.rules.registry import load_registry
 
 from .conftest import REPO, SHARED_SCHEMAS, needs_shared
 from .test_cli import cli
@@ -231,8 +231,8 @@ def test_the_editor_shows_the_document_s_own_findings() -> None:
 
 
 def test_a_map_without_includes_is_not_walked_for_them(tmp_path: Path) -> None:
-    from xodrlint.document import load_bytes
-    from xodrlint.includes import has_includes
+    from xodrlint.document.includes import has_includes
+    from xodrlint.document.load import load_bytes
 
     assert not has_includes(load_bytes(BRANCH.encode(), "x.xml"))
     assert has_includes(load_bytes(MAIN.encode(), "main.xodr"))

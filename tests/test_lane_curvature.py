@@ -18,7 +18,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from xodrlint.api import lint_bytes
-from xodrlint.document import load_bytes
+from xodrlint.document.load import load_bytes
 from xodrlint.geometry.curvature import LaneCurvature, record_elements
 from xodrlint.geometry.tracks import TrackGeometry
 from xodrlint.model import build_network

@@ -20,7 +20,7 @@ from lxml import etree
 
 from xodrlint.api import lint_bytes
 from xodrlint.cli.map import render_map
-from xodrlint.document import load_bytes
+from xodrlint.document.load import load_bytes
 from xodrlint.findings import Finding, Severity
 from xodrlint.mapview.locate import Locator
 from xodrlint.mapview.place import Placer
@@ -88,8 +88,9 @@ def test_map_of_the_broken_example_has_every_thing_and_finding(tmp_path: Path) -
 def test_the_map_parses_and_models_its_file_once(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from xodrlint import engine, model
+    from xodrlint import model
     from xodrlint.cli import map as command
+    from xodrlint.engine import linter as engine
 
     calls: list[str] = []
 
@@ -480,7 +481,7 @@ def test_check_does_not_import_the_map_modules() -> None:
         "from xodrlint.cli import app\n"
         f"CliRunner().invoke(app, ['check', {str(BROKEN)!r}])\n"
         "print(sorted(m for m in sys.modules if m.startswith(('xodrlint.mapview', 'xodrlint.geometry.sampling'))))\n"
-        "print('xodrlint.engine' in sys.modules)\n"
+        "print('xodrlint.engine.linter' in sys.modules)\n"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.splitlines() == ["[]", "True"]

@@ -7,7 +7,7 @@ import math
 import pytest
 from lxml import etree
 
-from xodrlint.document import load_bytes
+from xodrlint.document.load import load_bytes
 from xodrlint.model import build_network, number, numbers
 
 from .conftest import REPO
@@ -117,7 +117,7 @@ def test_lane_rules_judge_a_layout_once_and_report_on_each_roads_own_lane(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     from xodrlint.api import default_registry
-    from xodrlint.engine import Linter, LintOptions
+    from xodrlint.engine.linter import Linter, LintOptions
     from xodrlint.model import network as model_network
 
     reads: list[object] = []
@@ -152,7 +152,7 @@ def test_a_model_holds_no_reference_cycles() -> None:
     import gc
 
     from xodrlint.api import default_registry
-    from xodrlint.engine import Linter, LintOptions
+    from xodrlint.engine.linter import Linter, LintOptions
 
     linter = Linter(default_registry(), LintOptions(), keep_last_document=True)
     railway = _same_layout_roads(30, 0.75)

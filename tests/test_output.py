@@ -11,7 +11,7 @@ import pytest
 from typer.testing import CliRunner
 
 from xodrlint.cli import app
-from xodrlint.output import write_output
+from xodrlint.formatters.output import write_output
 
 from .conftest import REPO
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from xodrlint import cache, plugins
+from xodrlint.config import cache, plugins
 
 
 def test_cache_is_written_then_used(tmp_path: Path) -> None:
@@ -21,7 +21,7 @@ def test_cache_is_written_then_used(tmp_path: Path) -> None:
     # a process like the last one reads the cache and never imports importlib.metadata
     # (pytest's own sys.path differs from a plain interpreter's: run two of those)
     code = (
-        "import sys; from xodrlint.plugins import installed; "
+        "import sys; from xodrlint.config.plugins import installed; "
         "points = installed('xodrlint.rules'); "
         "print(len(points), 'importlib.metadata' in sys.modules)"
     )
@@ -55,9 +55,9 @@ def test_an_unwritable_cache_folder_is_no_error(monkeypatch: pytest.MonkeyPatch)
 
 
 def test_plugin_load_resolves_module_and_attribute() -> None:
-    loaded = plugins.Plugin("x", "xodrlint.plugins:Plugin.load", "g").load()
+    loaded = plugins.Plugin("x", "xodrlint.config.plugins:Plugin.load", "g").load()
     assert loaded is plugins.Plugin.load
-    assert plugins.Plugin("x", "xodrlint.plugins", "g").load() is plugins
+    assert plugins.Plugin("x", "xodrlint.config.plugins", "g").load() is plugins
 
 
 def test_each_environment_has_a_cache_file_of_its_own(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -72,7 +72,7 @@ def test_ways_of_starting_xodrlint_in_one_environment_keep_their_own_keys(
 ) -> None:
     # the console script has its bin folder first on sys.path, python -m the current one
     code = (
-        "import sys; sys.path[0] = sys.argv[1]; from xodrlint.plugins import installed; "
+        "import sys; sys.path[0] = sys.argv[1]; from xodrlint.config.plugins import installed; "
         "installed('xodrlint.rules'); print('importlib.metadata' in sys.modules)"
     )
     starts = [tmp_path / "bin", tmp_path / "project"]

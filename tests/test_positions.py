@@ -5,11 +5,11 @@ from __future__ import annotations
 
 from lxml import etree
 
+from xodrlint.concurrency.background import receive_hits, send_hits
+from xodrlint.document.positions import TreePositions
 from xodrlint.findings import Hit
-from xodrlint.positions import TreePositions
 from xodrlint.validation.libxml2 import _ElementLocator
 from xodrlint.validation.messages import Explained
-from xodrlint.workers.background import receive_hits, send_hits
 
 DOCUMENT = (
     b"<OpenDRIVE><header/><!-- c -->"

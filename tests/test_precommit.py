@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 import yaml  # type: ignore[import-untyped, unused-ignore]
 
-from xodrlint.cli.notes import FULL_VALIDATION_NOTE
+from xodrlint.cli.check.notes import FULL_VALIDATION_NOTE
 
 from .conftest import REPO
 

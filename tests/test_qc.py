@@ -14,7 +14,7 @@ import pytest
 from lxml import etree
 
 from xodrlint.api import default_registry
-from xodrlint.cli.notes import FULL_VALIDATION_NOTE
+from xodrlint.cli.check.notes import FULL_VALIDATION_NOTE
 from xodrlint.formatters.xqar import BUNDLE_NAME, asam_rule_uid, checker_id
 
 from .conftest import REPO, SHARED

@@ -11,8 +11,8 @@ from typer.testing import CliRunner
 
 from xodrlint.api import default_registry, lint_bytes
 from xodrlint.cli import app
-from xodrlint.engine import Linter, LintOptions
-from xodrlint.rule_options import OptionError
+from xodrlint.engine.linter import Linter, LintOptions
+from xodrlint.rules.options import OptionError
 
 from .networks import rail_road
 

@@ -12,11 +12,13 @@ from pathlib import Path
 
 import pytest
 
-from xodrlint import lint_file, remote
-from xodrlint.api import Input, collect_inputs, default_registry
-from xodrlint.engine import Linter, LintOptions
+from xodrlint import lint_file
+from xodrlint.api import collect_inputs, default_registry
+from xodrlint.engine.linter import Linter, LintOptions
 from xodrlint.findings import relative_path
-from xodrlint.workers.batch import Task, lint_tasks
+from xodrlint.inputs import remote
+from xodrlint.inputs.collect import Input
+from xodrlint.runners.batch import Task, lint_tasks
 
 from .conftest import REPO
 from .test_cli import BROKEN, CLEAN, cli
@@ -386,7 +388,7 @@ def test_xodrlint_bounds_s3_waits_and_fsspec_config_overrides_them(
 
 
 def test_a_task_by_url_is_scheduled_by_its_listed_size() -> None:
-    from xodrlint.workers import batch
+    from xodrlint.runners import batch
 
     url = "s3://bucket/maps/a.xodr"
     assert batch.task_size(Task(Path(url), url, (), url, 12345)) == 12345

@@ -175,7 +175,7 @@ def test_excludes_apply_to_the_path_in_the_bucket(s3: str) -> None:
 #: in the process that lists is recorded (the workers, forked or fresh, read unwatched).
 WATCHED_RUN = """
 import json, os, sys
-from xodrlint import remote
+from xodrlint.inputs import remote
 client, real, reads = os.getpid(), remote.read_url, []
 def read_url(url, limit):
     if os.getpid() == client:
@@ -249,7 +249,7 @@ def test_reports_name_the_urls(s3: str) -> None:
 
 
 def test_reading_stops_at_the_limit_and_an_empty_object_is_empty(s3: str) -> None:
-    from xodrlint import remote
+    from xodrlint.inputs import remote
 
     url = f"{FOLDER}/examples/broken.xodr"
     data = MAPS["examples/broken.xodr"].read_bytes()

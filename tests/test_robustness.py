@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from lxml import etree
 
 from xodrlint.api import default_registry
-from xodrlint.engine import Linter, LintOptions
+from xodrlint.engine.linter import Linter, LintOptions
 
 from .conftest import REPO, SHARED_SCHEMAS, needs_shared
 from .wellformed import assert_well_formed

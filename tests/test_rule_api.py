@@ -2,8 +2,10 @@
 every field, property and method of the types it exports, stays while ``API_VERSION``'s
 major number does.
 
-The surface below is the record of rule API 1.1 (1.1 added ``rule(..., since=)``, the
-model's junctions and lane links, and ``Road.profiles``; unreleased, so still growing). Removing or renaming anything in it
+The surface below is the record of rule API 1.2 (1.1 added ``rule(..., since=)``, the
+model's junctions and lane links, and ``Road.profiles``; 1.2 the lane profiles,
+``section_ranges``, ``CHILD_KINDS`` and :mod:`xodrlint.rules.geometry`, so that the
+built-in packs use the rule API alone; unreleased, so still growing). Removing or renaming anything in it
 breaks packs: raise the major number (and say so in the changelog). Adding something is
 compatible: record it here and raise the minor number, so that a pack using it can
 declare the version it needs.
@@ -13,25 +15,31 @@ from __future__ import annotations
 
 import dataclasses
 import enum
+import importlib
 import inspect
+import subprocess
+import sys
 
 import pytest
 
 import xodrlint.rules
 from xodrlint.rules import API_VERSION
 
-RECORDED_VERSION = (1, 1)
+RECORDED_VERSION = (1, 2)
 #: Each name with what a pack may use of it: a type's attributes, a function's
 #: parameters, ``None`` for a constant or an alias.
 RECORDED: dict[str, list[str] | None] = {
     "API_VERSION": None,
+    "CHILD_KINDS": None,
     "NON_TRAFFIC_LANE_TYPES": None,
     "RAIL_LANE_TYPES": None,
     "RESERVED_PREFIXES": None,
+    "S_TOLERANCE": None,
     "Connection": [
         "connecting_road", "contact_point", "element", "id", "incoming_road", "lane_links",
     ],
     "Cubic": ["a", "at", "b", "c", "d", "element", "start"],
+    "Extremes": ["high", "low", "s_high", "s_low"],
     "Hit": ["column", "defers_to", "element", "kind", "line", "message", "related"],
     "Junction": ["connections", "element", "id"],
     "JunctionLaneLink": ["element", "from_id", "to_id"],
@@ -42,6 +50,7 @@ RECORDED: dict[str, list[str] | None] = {
     "LaneLink": ["element", "id"],
     "LaneSection": ["element", "lanes", "rail_lanes", "s"],
     "PartnerRef": ["element", "id", "name"],
+    "Piecewise": ["defined_from", "piece_at", "pieces", "starts", "zero_before"],
     "Platform": ["element", "id", "name", "segments"],
     "RailNetwork": [
         "derived", "junction_by_id", "junctions", "platforms", "problems", "rail_roads",
@@ -66,15 +75,45 @@ RECORDED: dict[str, list[str] | None] = {
     "Station": ["element", "id", "name", "platforms", "type"],
     "Switch": ["element", "id", "main_track", "name", "partner", "position", "road", "side_track"],
     "TrackRef": ["dir", "element", "road_id", "s"],
+    "centre_terms": ["road", "section", "section_start", "lane"],
     "collect": ["package"],
+    "extremes": ["terms", "start", "end"],
     "integer": ["element", "attribute"],
+    "lane_width": ["lane", "section_start"],
     "non_finite": ["element", "attribute"],
     "number": ["element", "attribute"],
     "numbers": ["element", "attributes"],
     "rule": [
         "code", "name", "uid", "severity", "aliases", "options", "defers_to", "opt_in", "since",
     ],
+    "section_ranges": ["sections", "length"],
 }  # fmt: skip
+#: The same record for :mod:`xodrlint.rules.geometry` (rule API 1.2).
+RECORDED_GEOMETRY: dict[str, list[str] | None] = {
+    "Entry": ["cubic", "element", "readable", "s"],
+    "GeometryProblem": ["element", "message", "road_id"],
+    "LaneBend": ["bend", "lane", "record", "section_start"],
+    "LaneCurvature": ["bends", "tracks_bending"],
+    "PlanView": ["ends", "line", "problems"],
+    "Pose": ["hdg", "offset", "x", "y"],
+    "Record": ["end", "hdg", "length", "local", "max_curvature", "pose_at", "s", "x", "y"],
+    "ReferenceLine": [
+        "elements", "guessed", "pose", "problems", "record_at", "records", "s_range", "starts",
+    ],
+    "TrackGeometry": [
+        "lane_end_point", "lane_point", "plan_view", "plan_views", "point", "reference_line",
+    ],
+    "TrackPoint": ["direction", "distance_to", "heading", "x", "y"],
+    "VerticalProfiles": ["elevation", "elevation_at", "superelevation", "tracks"],
+    "record_elements": ["road", "line"],
+    "turn_beyond": ["first", "second", "limit_degrees"],
+    "unreadable_numbers": ["element", "names"],
+}  # fmt: skip
+#: Each module of the rule API with its record.
+MODULES: dict[str, dict[str, list[str] | None]] = {
+    "xodrlint.rules": RECORDED,
+    "xodrlint.rules.geometry": RECORDED_GEOMETRY,
+}
 
 
 def _surface(value: object) -> list[str] | None:
@@ -103,14 +142,18 @@ def test_the_recorded_version_is_the_current_one() -> None:
     )
 
 
-@pytest.mark.parametrize("name", sorted(RECORDED))
-def test_no_recorded_name_is_removed_or_renamed(name: str) -> None:
-    assert name in xodrlint.rules.__all__, (
-        f"xodrlint.rules.{name} is part of rule API {RECORDED_VERSION}: removing or renaming "
+@pytest.mark.parametrize(
+    ("module", "name"),
+    [(module, name) for module, record in MODULES.items() for name in sorted(record)],
+)
+def test_no_recorded_name_is_removed_or_renamed(module: str, name: str) -> None:
+    api = importlib.import_module(module)
+    assert name in api.__all__, (
+        f"{module}.{name} is part of rule API {RECORDED_VERSION}: removing or renaming "
         "it breaks packs (raise API_VERSION's major number if that is meant)"
     )
-    current = _surface(getattr(xodrlint.rules, name))
-    recorded = RECORDED[name]
+    current = _surface(getattr(api, name))
+    recorded = MODULES[module][name]
     if recorded is not None:
         assert current is not None
         missing = [attribute for attribute in recorded if attribute not in current]
@@ -118,21 +161,32 @@ def test_no_recorded_name_is_removed_or_renamed(name: str) -> None:
             f"{name} lost {missing}, part of rule API {RECORDED_VERSION}: that breaks packs "
             "(raise API_VERSION's major number if that is meant)"
         )
-        if inspect.isfunction(getattr(xodrlint.rules, name)):
+        if inspect.isfunction(getattr(api, name)):
             assert current[: len(recorded)] == recorded, f"{name}'s parameters moved"
 
 
-def test_every_name_of_the_rule_api_is_recorded() -> None:
-    current = {name: _surface(getattr(xodrlint.rules, name)) for name in xodrlint.rules.__all__}
+@pytest.mark.parametrize("module", sorted(MODULES))
+def test_every_name_of_the_rule_api_is_recorded(module: str) -> None:
+    api = importlib.import_module(module)
+    record = MODULES[module]
+    current = {name: _surface(getattr(api, name)) for name in api.__all__}
     added = {
         name: value
         for name, value in current.items()
-        if name not in RECORDED or value != RECORDED[name]
+        if name not in record or value != record[name]
     }
     assert not added, (
-        f"the rule API grew: {added}; record it here and raise API_VERSION's minor number, "
+        f"{module} grew: {added}; record it here and raise API_VERSION's minor number, "
         "so that packs using it can say they need it"
     )
+
+
+def test_the_geometry_is_loaded_only_when_a_rule_asks() -> None:
+    # the rule API's geometry is most of a rail run's import time: importing the rule
+    # API (as every pack does) must not load it
+    code = "import sys, xodrlint.rules; print('xodrlint.geometry' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout == "False\n"
 
 
 def test_every_name_is_importable_from_one_place() -> None:

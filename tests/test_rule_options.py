@@ -13,11 +13,11 @@ from typer.testing import CliRunner, Result
 
 from xodrlint.api import default_registry
 from xodrlint.cli import app
-from xodrlint.engine import Linter, LintOptions
+from xodrlint.engine.linter import Linter, LintOptions
 from xodrlint.findings import RuleOption
-from xodrlint.registry import Registry
-from xodrlint.rule_options import OptionError
 from xodrlint.rules import Hit, RailNetwork, Settings, Severity, rule
+from xodrlint.rules.options import OptionError
+from xodrlint.rules.registry import Registry
 
 from .conftest import REPO
 
@@ -44,7 +44,7 @@ def station_names(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
 @pytest.fixture
 def with_pack(monkeypatch: pytest.MonkeyPatch) -> Registry:
     registry = Registry((*default_registry().rules, station_names))
-    for module in ("check", "config"):
+    for module in ("check.run", "config"):
         monkeypatch.setattr(f"xodrlint.cli.{module}.default_registry", lambda: registry)
     return registry
 

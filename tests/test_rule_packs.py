@@ -14,10 +14,10 @@ from pathlib import Path
 
 import pytest
 
+from xodrlint.config.plugins import Plugin, installed
 from xodrlint.findings import PackInfo
-from xodrlint.plugins import Plugin, installed
-from xodrlint.registry import ENTRY_POINT_GROUP, load_registry
 from xodrlint.rules import API_VERSION
+from xodrlint.rules.registry import ENTRY_POINT_GROUP, load_registry
 
 from .conftest import REPO
 

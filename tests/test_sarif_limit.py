@@ -16,11 +16,11 @@ from typer.testing import CliRunner, Result
 from xodrlint import __version__
 from xodrlint.api import default_registry
 from xodrlint.cli import app
-from xodrlint.config import DEFAULT_SARIF_MAX_RESULTS
+from xodrlint.config.plugins import Plugin
+from xodrlint.config.settings import DEFAULT_SARIF_MAX_RESULTS
 from xodrlint.findings import FileReport, Location, RunResult, Severity, Suppressed
 from xodrlint.formatters import Formatter, get_formatter, warnings_of
 from xodrlint.formatters.sarif import SarifFormatter, as_sarif
-from xodrlint.plugins import Plugin
 
 from .conftest import REPO
 from .test_formatters import PLAIN_ENV, assert_valid_sarif, finding, render, sarif

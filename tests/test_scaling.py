@@ -10,7 +10,7 @@ from __future__ import annotations
 import time
 
 from xodrlint.api import default_registry
-from xodrlint.engine import Linter, LintOptions
+from xodrlint.engine.linter import Linter, LintOptions
 
 from .networks import network
 

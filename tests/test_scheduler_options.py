@@ -11,7 +11,7 @@ import pytest
 from typer.testing import CliRunner, Result
 
 from xodrlint.cli import app
-from xodrlint.cli import scheduler as cli_scheduler
+from xodrlint.cli.check import scheduler as cli_scheduler
 
 from .conftest import REPO
 
@@ -64,7 +64,7 @@ def test_without_dask_a_scheduler_run_says_how_to_install_it(
 def test_a_scheduler_run_with_nothing_to_send_starts_no_cluster(
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path
 ) -> None:
-    monkeypatch.setitem(sys.modules, "xodrlint.workers.dask", None)  # importing it fails
+    monkeypatch.setitem(sys.modules, "xodrlint.runners.dask", None)  # importing it fails
     missing = tmp_path / "missing.xodr"
     result = run("check", "--scheduler", "tcp://127.0.0.1:9", missing, "-")
     assert result.exit_code == 2
@@ -73,14 +73,14 @@ def test_a_scheduler_run_with_nothing_to_send_starts_no_cluster(
 
 def test_the_name_of_a_local_cluster_is_the_engines() -> None:
     pytest.importorskip("distributed", reason="Dask is not installed")
-    from xodrlint.workers import dask
+    from xodrlint.runners import dask
 
     assert cli_scheduler.LOCAL == dask.LOCAL
 
 
 def test_import_xodrlint_and_the_api_import_no_dask() -> None:
     code = (
-        "import sys, xodrlint, xodrlint.api, xodrlint.cli.check; xodrlint.lint_file; "
+        "import sys, xodrlint, xodrlint.api, xodrlint.cli.check.run; xodrlint.lint_file; "
         "print(sorted(m for m in sys.modules if m.split('.')[0] in ('dask', 'distributed')))"
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
@@ -101,8 +101,8 @@ def test_import_xodrlint_and_the_api_import_no_dask() -> None:
 def test_verbose_says_where_the_files_are_linted(
     scheduler: str | None, said: str, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    from xodrlint.cli.verbose import describe_run
-    from xodrlint.config import settings_from
+    from xodrlint.cli.check.verbose import describe_run
+    from xodrlint.config.settings import settings_from
 
     describe_run(settings_from(None, {}), ["SW001"], 8, 2, scheduler)
     assert capsys.readouterr().err.splitlines()[-1] == f"xodrlint: {said}"

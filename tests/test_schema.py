@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from xodrlint.api import default_registry
-from xodrlint.engine import Linter, LintOptions
+from xodrlint.engine.linter import Linter, LintOptions
 from xodrlint.findings import FileReport
 from xodrlint.validation.sets import (
     Origin,

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from xodrlint.api import default_registry
-from xodrlint.engine import Linter, LintOptions
+from xodrlint.engine.linter import Linter, LintOptions
 from xodrlint.validation import libxml2
 from xodrlint.validation.sets import MAX_SCHEMA_FILE_BYTES, SchemaLoadError
 from xodrlint.validation.source import SchemaSource, read_schema_source

@@ -176,8 +176,8 @@ def test_a_worker_that_does_not_start_is_said_and_the_next_lint_starts_afresh(
 def test_a_hit_carries_plain_ints_whatever_a_rule_gave() -> None:
     from lxml import etree
 
+    from xodrlint.engine.guard import checked_hit
     from xodrlint.findings import Hit
-    from xodrlint.rule_guard import checked_hit
 
     class Sneaky(int):
         def __str__(self) -> str:

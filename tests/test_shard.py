@@ -19,7 +19,7 @@ import yaml  # type: ignore[import-untyped, unused-ignore]
 from typer.testing import CliRunner
 
 from xodrlint.cli import app
-from xodrlint.cli.inputs import Shard, parse_shard, shard_of
+from xodrlint.cli.check.inputs import Shard, parse_shard, shard_of
 
 from .conftest import REPO
 from .test_cli import BROKEN, cli
@@ -67,9 +67,7 @@ def test_parts_are_the_same_in_every_process_and_on_every_machine() -> None:
     for name, parts in product(names, (1, 2, 3, 4, 1000)):  # as docs/distributed.md says
         digest = hashlib.sha256(name.encode("utf-8")).digest()
         assert shard_of(name, parts) == int.from_bytes(digest[:8], "big") % parts + 1
-    program = (
-        f"from xodrlint.cli.inputs import shard_of; print([shard_of(n, 4) for n in {names!r}])"
-    )
+    program = f"from xodrlint.cli.check.inputs import shard_of; print([shard_of(n, 4) for n in {names!r}])"
     for seed in ("0", "1", "random"):  # Python's own hash() would differ between these
         done = subprocess.run(
             [sys.executable, "-c", program],

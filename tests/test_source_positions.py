@@ -16,8 +16,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from lxml import etree
 
-from xodrlint.document import Document, load_bytes
-from xodrlint.positions import LIBXML2_LINE_CAP, SourcePositions, parser_line
+from xodrlint.document.load import Document, load_bytes
+from xodrlint.document.positions import LIBXML2_LINE_CAP, SourcePositions, parser_line
 
 HEADER = '<header k="header" revMajor="1" revMinor="7"/>'
 

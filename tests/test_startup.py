@@ -33,12 +33,12 @@ NOT_FOR_A_SMALL_JSON_RUN = (
     "xodrlint.geometry.sampling",
     "xodrlint.cli.qc",
     "xodrlint.cli.map",
-    "xodrlint.workers.forkpool",
+    "xodrlint.concurrency.forkpool",
     "pathspec",
     # a Dask cluster as the engine (--scheduler, xodrlint.distributed)
     "dask",
     "distributed",
-    "xodrlint.workers.dask",
+    "xodrlint.runners.dask",
     "xodrlint.distributed",
     # object storage (inputs by URL)
     "fsspec",
@@ -83,7 +83,7 @@ def test_a_small_clean_run_loads_only_what_it_uses(tmp_path: Path) -> None:
     _modules_of_a_run(tmp_path)  # the first run fills the entry-point cache
     code, modules = _modules_of_a_run(tmp_path)
     assert code == 0
-    assert "lxml.etree" in modules and "xodrlint.engine" in modules  # the run did run
+    assert "lxml.etree" in modules and "xodrlint.engine.linter" in modules  # the run did run
     loaded = sorted(
         name
         for name in modules
@@ -95,7 +95,8 @@ def test_a_small_clean_run_loads_only_what_it_uses(tmp_path: Path) -> None:
 
 def test_value_types_are_made_without_compiling_their_annotations() -> None:
     # typing compiles each string annotation of a named tuple when the class is made
-    from xodrlint import findings, model, remote
+    from xodrlint import findings, model
+    from xodrlint.inputs import remote
 
     quoted = {
         f"{module.__name__}.{name}.{field}"

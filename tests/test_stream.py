@@ -29,16 +29,16 @@ from hypothesis import strategies as st
 from referencing import Registry, Resource
 
 from xodrlint.api import default_registry, exit_code
-from xodrlint.cli.check import prepare_linter, run_check
-from xodrlint.cli.inputs import collect
-from xodrlint.cli.request import CheckRequest
-from xodrlint.cli.stream import Source, Streamed, run_stream, stream_inputs
-from xodrlint.engine import Linter, LintOptions
+from xodrlint.cli.check.inputs import collect
+from xodrlint.cli.check.request import CheckRequest
+from xodrlint.cli.check.run import prepare_linter, run_check
+from xodrlint.cli.check.stream import Source, Streamed, run_stream, stream_inputs
+from xodrlint.engine.linter import Linter, LintOptions
 from xodrlint.findings import FileReport, Finding, Location, RunResult, Severity
 from xodrlint.formatters import get_formatter, streaming
 from xodrlint.formatters.jsonl import JsonlFormatter
-from xodrlint.workers import batch
-from xodrlint.workers.batch import ReportStream, Task, in_order, lint_tasks, stream_tasks
+from xodrlint.runners import batch
+from xodrlint.runners.batch import ReportStream, Task, in_order, lint_tasks, stream_tasks
 
 from .conftest import REPO, record_forks
 from .test_cli import BROKEN, CLEAN, OUTPUT_SCHEMA, cli
@@ -303,7 +303,7 @@ def test_an_error_of_the_engine_is_no_error_of_the_output(
         raise BlockingIOError(11, "Resource temporarily unavailable")
         yield  # a generator, as the engines are
 
-    monkeypatch.setattr("xodrlint.cli.check.stream_tasks", refused)
+    monkeypatch.setattr("xodrlint.cli.check.run.stream_tasks", refused)
     with pytest.raises(BlockingIOError):
         run_check(CheckRequest(paths=(str(BROKEN),), output_format="jsonl", output=os.devnull))
 

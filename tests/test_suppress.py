@@ -10,7 +10,7 @@ from typer.testing import CliRunner, Result
 
 from xodrlint.api import default_registry
 from xodrlint.cli import app
-from xodrlint.engine import Linter, LintOptions
+from xodrlint.engine.linter import Linter, LintOptions
 
 from .conftest import REPO
 
@@ -222,7 +222,7 @@ def test_write_baseline_refuses_to_overwrite_an_input(
 
 @pytest.mark.parametrize("codec", ["utf-8", "utf-16", "utf-32-be"])
 def test_only_a_file_with_a_directive_marker_has_its_comments_walked(codec: str) -> None:
-    from xodrlint.suppress import may_hold_directives
+    from xodrlint.engine.suppressions import may_hold_directives
 
     named = '<OpenDRIVE><header name="checked by xodrlint"/><!-- c --></OpenDRIVE>'
     holding = "<OpenDRIVE><!-- xodrlint: ignore[SW006] why --><road/></OpenDRIVE>"
@@ -231,7 +231,7 @@ def test_only_a_file_with_a_directive_marker_has_its_comments_walked(codec: str)
 
 
 def test_the_directive_markers_are_the_encodings_of_its_start() -> None:
-    from xodrlint.suppress import _MARKERS
+    from xodrlint.engine.suppressions import _MARKERS
 
     codecs = ("utf-8", "utf-16-le", "utf-16-be", "utf-32-le", "utf-32-be")
     assert tuple("xodrlint:".encode(codec) for codec in codecs) == _MARKERS

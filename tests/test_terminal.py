@@ -14,9 +14,9 @@ from pathlib import Path
 import pytest
 
 from xodrlint.api import default_registry
-from xodrlint.engine import Linter, LintOptions
-from xodrlint.workers import batch
-from xodrlint.workers.batch import Task, lint_tasks
+from xodrlint.engine.linter import Linter, LintOptions
+from xodrlint.runners import batch
+from xodrlint.runners.batch import Task, lint_tasks
 
 from .conftest import REPO
 from .test_cli import ANSI, BROKEN, CLEAN, cli

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from xodrlint.api import lint_bytes
-from xodrlint.document import load_bytes
+from xodrlint.document.load import load_bytes
 from xodrlint.geometry.tracks import TrackGeometry, TrackPoint, angle_between
 from xodrlint.model import build_network
 from xodrlint.model.lane_profiles import centre_at, centre_terms, lateral_value

@@ -11,7 +11,7 @@ from collections import Counter
 import pytest
 
 from xodrlint.api import lint_bytes
-from xodrlint.document import load_bytes
+from xodrlint.document.load import load_bytes
 from xodrlint.model import build_network
 from xodrlint.rules.tracks._joints import Joint
 from xodrlint.rules.tracks._network import joints, track_network

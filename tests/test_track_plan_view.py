@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 from lxml import etree
 
 from xodrlint.api import lint_bytes
-from xodrlint.document import load_bytes
+from xodrlint.document.load import load_bytes
 from xodrlint.findings import FileReport
 from xodrlint.geometry.tracks import TrackGeometry
 from xodrlint.model import build_network

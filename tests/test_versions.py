@@ -15,15 +15,16 @@ from typer.testing import CliRunner
 from xodrlint import lint_bytes, lint_file
 from xodrlint.api import default_registry
 from xodrlint.cli import app
-from xodrlint.cli.notes import NotApplied, run_notes
-from xodrlint.config import Settings, find_config, settings_from
-from xodrlint.engine import Linter, LintOptions
+from xodrlint.cli.check.notes import NotApplied, run_notes
+from xodrlint.config.discovery import find_config
+from xodrlint.config.settings import Settings, settings_from
+from xodrlint.engine.linter import Linter, LintOptions
 from xodrlint.findings import FileReport, Hit, RuleMeta, Severity
 from xodrlint.model import RailNetwork
-from xodrlint.registry import Registry
 from xodrlint.rules import rule
+from xodrlint.rules.registry import Registry
+from xodrlint.runners.batch import Task, lint_tasks
 from xodrlint.testing.pages import render_page
-from xodrlint.workers.batch import Task, lint_tasks
 
 from .conftest import REPO
 

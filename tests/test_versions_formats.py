@@ -19,8 +19,8 @@ from typer.testing import CliRunner, Result
 
 from xodrlint.api import default_registry
 from xodrlint.cli import app
-from xodrlint.cli.notes import FULL_VALIDATION_NOTE
-from xodrlint.engine import LintOptions
+from xodrlint.cli.check.notes import FULL_VALIDATION_NOTE
+from xodrlint.engine.linter import LintOptions
 from xodrlint.formatters.xqar import checker_id
 
 from .conftest import REPO
@@ -246,8 +246,8 @@ def test_qc_refuses_an_all_versions_parameter_that_is_no_flag(
 
 @pytest.mark.loopback
 def test_dask_workers_carry_what_was_not_applied(dask_client: Any) -> None:
-    from xodrlint.workers.batch import Task
-    from xodrlint.workers.dask import lint_on_cluster
+    from xodrlint.runners.batch import Task
+    from xodrlint.runners.dask import lint_on_cluster
 
     tasks = [Task(path, path.name) for path in FILES]
     for options, expected in (

@@ -14,7 +14,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from xodrlint.api import lint_bytes
-from xodrlint.document import load_bytes
+from xodrlint.document.load import load_bytes
 from xodrlint.geometry.profiles import Span, VerticalProfiles
 from xodrlint.model import build_network
 
@@ -231,7 +231,7 @@ def test_an_unreadable_entry_gives_silence_there(attribute: str, value: str) -> 
 
 
 def test_unreadable_entries_are_listed_in_document_order_and_tracks_with_entries_once() -> None:
-    from xodrlint.document import load_bytes
+    from xodrlint.document.load import load_bytes
     from xodrlint.geometry.profiles import VerticalProfiles
     from xodrlint.model import build_network
 

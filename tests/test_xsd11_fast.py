@@ -15,7 +15,8 @@ from typing import Any
 import pytest
 from lxml import etree
 
-from xodrlint.document import Document, load_bytes
+from xodrlint.concurrency import background
+from xodrlint.document.load import Document, load_bytes
 from xodrlint.findings import Hit
 from xodrlint.validation.libxml2 import Libxml2Validator
 from xodrlint.validation.sets import SchemaFinder, SchemaLoadError, SchemaSet
@@ -26,7 +27,6 @@ from xodrlint.validation.xsd11.alternatives import holds_a_site
 from xodrlint.validation.xsd11.fast import FastXsd11Validator, xsd11_validator
 from xodrlint.validation.xsd11.form import CACHE_DIR_ENV, derive_xsd10, xsd10_form
 from xodrlint.validation.xsd11.full import Xsd11Validator
-from xodrlint.workers import background
 
 from .conftest import CORPUS_RAIL, REPO, SHARED, SHARED_SCHEMAS, needs_shared
 

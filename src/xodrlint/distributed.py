@@ -26,13 +26,14 @@ from typing import TYPE_CHECKING, Any, Final
 from distributed import Client
 
 from xodrlint.api import collect_inputs
-from xodrlint.config import DEFAULT_MAX_FILE_SIZE, any_match, glob_matches
-from xodrlint.engine import Linter, LintOptions
+from xodrlint.config.sizes import DEFAULT_MAX_FILE_SIZE
+from xodrlint.engine.linter import Linter, LintOptions
 from xodrlint.findings import FileReport
-from xodrlint.registry import load_registry
-from xodrlint.remote import is_url
-from xodrlint.workers.batch import Task, lint_task, task_of
-from xodrlint.workers.dask import DEFAULT_RETRIES, lint_on_cluster
+from xodrlint.inputs.globs import any_match, glob_matches
+from xodrlint.inputs.remote import is_url
+from xodrlint.rules.registry import load_registry
+from xodrlint.runners.batch import Task, lint_task, task_of
+from xodrlint.runners.dask import DEFAULT_RETRIES, lint_on_cluster
 
 if TYPE_CHECKING:
     import pandas as pd

@@ -10,7 +10,7 @@ from enum import StrEnum
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final, NamedTuple
 
-from xodrlint.remote import is_url
+from xodrlint.inputs.remote import is_url
 
 if TYPE_CHECKING:
     from lxml import etree

@@ -3,12 +3,12 @@ the per-file configuration, the workers and the reports.
 
 - :mod:`~xodrlint.cli.commands`: the typer app, every command declared (options, help);
 - :mod:`~xodrlint.cli.entry`: the console entry point (exit codes, fast exit);
-- one module per command, doing its work: :mod:`~xodrlint.cli.check`,
+- one module per command, doing its work: :mod:`~xodrlint.cli.check.run`,
   :mod:`~xodrlint.cli.map`, :mod:`~xodrlint.cli.qc`, :mod:`~xodrlint.cli.rules`
   (``rules`` and ``explain``), :mod:`~xodrlint.cli.schemas`, :mod:`~xodrlint.cli.config`;
 
 ``app`` and ``main`` are loaded on first use, so a module that imports one command's
-work (``xodrlint.cli.check``) does not load typer and every declaration.
+work (``xodrlint.cli.check.run``) does not load typer and every declaration.
 """
 
 from typing import TYPE_CHECKING, Any

@@ -116,6 +116,7 @@ _RULE_OPTIONS = "Rule options"
 
 @app.command(cls=_Command)
 def check(
+    ctx: typer.Context,
     paths: Annotated[
         list[str],
         typer.Argument(
@@ -427,8 +428,8 @@ def check(
     ] = None,
 ) -> None:
     """Lint OpenDRIVE files and report findings."""
-    from xodrlint.cli.check import run_check
-    from xodrlint.cli.request import CheckRequest
+    from xodrlint.cli.check.request import CheckRequest
+    from xodrlint.cli.check.run import run_check
 
     code = run_check(
         CheckRequest(
@@ -467,9 +468,16 @@ def check(
             max_file_size=max_file_size,
             rule_timeout=rule_timeout,
             shard=shard,
+            keep_alive=_keep_alive(ctx),
         )
     )
     raise typer.Exit(code)
+
+
+def _keep_alive(ctx: typer.Context) -> list[object] | None:
+    """The entry point's list of what outlives a run (see ``CheckRequest.keep_alive``)."""
+    kept = ctx.find_root().obj
+    return kept if isinstance(kept, list) else None
 
 
 def _rule_options(
@@ -533,6 +541,7 @@ def qc_command(
 
 @app.command("map", cls=_Command)
 def map_command(
+    ctx: typer.Context,
     path: Annotated[str, typer.Argument(metavar="FILE", help="The .xodr file to draw.")],
     output: Annotated[
         str,
@@ -582,8 +591,8 @@ def map_command(
     ] = False,
 ) -> None:
     """Draw the network with every finding on it: a self-contained HTML page or an SVG."""
+    from xodrlint.cli.check.request import CheckRequest
     from xodrlint.cli.map import MapRequest, run_map
-    from xodrlint.cli.request import CheckRequest
 
     lint = CheckRequest(
         paths=(path,),
@@ -599,6 +608,7 @@ def map_command(
         rule_options=_rule_options(rule_option, rail_min_width, refline_tolerance),
         exit_zero=exit_zero,
         quiet=quiet,
+        keep_alive=_keep_alive(ctx),
     )
     raise typer.Exit(run_map(MapRequest(lint, output)))
 

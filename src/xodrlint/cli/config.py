@@ -7,9 +7,9 @@ import sys
 from pathlib import Path
 
 from xodrlint.api import default_registry
-from xodrlint.cli.check import resolve_settings
-from xodrlint.config import ConfigError
-from xodrlint.output import error_line as _error
+from xodrlint.cli.check.run import resolve_settings
+from xodrlint.config.settings import ConfigError
+from xodrlint.formatters.output import error_line as _error
 
 
 def show_config(paths: tuple[str, ...], config: Path | None, output_format: str) -> int:

@@ -21,15 +21,15 @@ from typing import Final, TextIO
 
 from xodrlint import __version__
 from xodrlint.api import default_registry, exit_code
-from xodrlint.cli.check import prepare_linter
-from xodrlint.cli.notes import run_notes, say_notes
-from xodrlint.cli.request import CheckRequest, UsageError
-from xodrlint.config import ConfigError
-from xodrlint.document import Document, load_bytes
-from xodrlint.engine import SelectorError
-from xodrlint.files import os_reason, overwrites
+from xodrlint.cli.check.notes import run_notes, say_notes
+from xodrlint.cli.check.request import CheckRequest, UsageError
+from xodrlint.cli.check.run import prepare_linter
+from xodrlint.config.settings import ConfigError
+from xodrlint.document.load import Document, load_bytes
 from xodrlint.findings import FileReport, Finding, RunResult
 from xodrlint.formatters import get_formatter
+from xodrlint.formatters.output import error_line, write_output
+from xodrlint.inputs.files import os_reason, overwrites
 from xodrlint.mapview.locate import Locator
 from xodrlint.mapview.page import html_page, standalone_svg
 from xodrlint.mapview.place import Placer
@@ -37,9 +37,9 @@ from xodrlint.mapview.scene import Scene, build_scene
 from xodrlint.mapview.svg import PlacedFinding, frame_of
 from xodrlint.messages import plural
 from xodrlint.model import RailNetwork, build_network
-from xodrlint.output import error_line, write_output
-from xodrlint.registry import Registry
-from xodrlint.rule_options import OptionError
+from xodrlint.rules.options import OptionError
+from xodrlint.rules.registry import Registry
+from xodrlint.rules.selection import SelectorError
 from xodrlint.validation.sets import SchemaLoadError
 
 #: Chord tolerance of the drawing in metres: finer than the 1 cm the coordinates keep

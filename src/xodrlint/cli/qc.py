@@ -24,11 +24,11 @@ from typing import TYPE_CHECKING, Final, NamedTuple, TextIO
 
 from lxml import etree
 
-from xodrlint.document import hardened_parser
+from xodrlint.document.load import hardened_parser
+from xodrlint.formatters.output import STDOUT, error_line, write_output
 from xodrlint.formatters.xqar import BUNDLE_NAME, LevelRange, XqarFormatter, checker_id
 from xodrlint.messages import one_line
-from xodrlint.output import STDOUT, error_line, write_output
-from xodrlint.registry import Registry
+from xodrlint.rules.registry import Registry
 
 if TYPE_CHECKING:
     from xodrlint.findings import RunResult
@@ -133,8 +133,8 @@ def run_qc(
         write_output(None if manifest == STDOUT else manifest, _write_manifest)
         return 0
     from xodrlint.api import default_registry
-    from xodrlint.cli.check import run_check
-    from xodrlint.cli.request import CheckRequest
+    from xodrlint.cli.check.request import CheckRequest
+    from xodrlint.cli.check.run import run_check
 
     try:
         run = _run_for(config, input_file, output, default_registry())
@@ -181,7 +181,7 @@ def _check_result_path(run: QcRun) -> None:
     if run.result_file == STDOUT:
         return
     from xodrlint.api import collect_inputs
-    from xodrlint.files import overwrites
+    from xodrlint.inputs.files import overwrites
 
     target = Path(run.result_file)
     named = f"{run.result_named_by} {run.result_file}"

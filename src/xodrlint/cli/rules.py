@@ -7,8 +7,8 @@ import sys
 
 from xodrlint.api import default_registry
 from xodrlint.findings import PackInfo, RuleMeta
-from xodrlint.output import color_wanted, interactive
-from xodrlint.output import error_line as _error
+from xodrlint.formatters.output import color_wanted, interactive
+from xodrlint.formatters.output import error_line as _error
 
 
 def print_rules(output_format: str) -> int:
@@ -89,7 +89,7 @@ def pack_label(origin: PackInfo) -> str:
 
 def explain_rule(token: str, color: str | None = None) -> int:
     """Print a rule's page: drawn from its Markdown on a terminal or where ``color``
-    (see :func:`~xodrlint.output.color_wanted`) asks for styles; else the Markdown."""
+    (see :func:`~xodrlint.formatters.output.color_wanted`) asks for styles; else the Markdown."""
     registry = default_registry()
     for warning in registry.warnings:  # why a pack's rule may be missing
         _error(f"warning: {warning}")

@@ -10,8 +10,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from xodrlint.formatters.output import error_line as _error
 from xodrlint.messages import plural
-from xodrlint.output import error_line as _error
 from xodrlint.validation.sets import SchemaFinder, builtin_set
 
 if TYPE_CHECKING:

@@ -1,7 +1,8 @@
 """The rule API's reference in docs/plugins.md, generated from ``xodrlint.rules``.
 
-Every name a pack may import (``xodrlint.rules.__all__``), and every field, property and
-method of the model types a rule reads, with its type as the source writes it and the
+Every name a pack may import (``xodrlint.rules.__all__`` and
+``xodrlint.rules.geometry.__all__``), and every field, property and method of the types
+a rule reads, with its type as the source writes it and the
 first paragraph of its docstring. The model's types come in the order a rule meets
 them, from :class:`~xodrlint.model.RailNetwork` down. ``python -m xodrlint.devtools.docgen``
 writes it between the page's markers; tests/test_docs.py fails when it is stale.
@@ -66,7 +67,27 @@ def reference() -> str:
     lines += ["### Functions and constants", ""]
     for name in others:
         lines += [f"- `{name}{_signature(getattr(api, name))}`: {_summary(api, name)}"]
-    return "\n".join([*lines, "", END])
+    return "\n".join([*lines, "", *_geometry(), END])
+
+
+def _geometry() -> list[str]:
+    """The section of :mod:`xodrlint.rules.geometry`: its types, then its functions."""
+    from xodrlint.rules import geometry
+
+    doc = inspect.getdoc(geometry) or ""
+    lines = ["### The track geometry: `xodrlint.rules.geometry`", "", _first_paragraph(doc), ""]
+    lines += [_first_paragraph(doc.split("\n\n", 1)[1]), ""] if "\n\n" in doc else []
+    names = geometry.__all__
+    for name in names:
+        value = getattr(geometry, name)
+        if inspect.isclass(value):
+            lines += _type_section(name, value)
+    lines += ["#### Functions", ""]
+    for name in names:
+        value = getattr(geometry, name)
+        if not inspect.isclass(value):
+            lines += [f"- `{name}{_signature(value)}`: {_summary(geometry, name)}"]
+    return [*lines, ""]
 
 
 def replace_section(page: str) -> str:

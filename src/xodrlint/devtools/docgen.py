@@ -102,10 +102,10 @@ def formats_page(root: Path) -> str:
     import json
 
     from xodrlint import __version__
-    from xodrlint.cli.notes import run_notes
-    from xodrlint.engine import Linter, LintOptions
+    from xodrlint.cli.check.notes import run_notes
+    from xodrlint.engine.linter import Linter, LintOptions
     from xodrlint.formatters import get_formatter
-    from xodrlint.registry import Registry, load_registry
+    from xodrlint.rules.registry import Registry, load_registry
 
     # xodrlint's own rules only: the page is the same whatever packs are installed
     own = tuple(r for r in load_registry().rules if r.meta.origin and r.meta.origin.builtin)
@@ -161,7 +161,7 @@ def _statistics_section(result: RunResult) -> list[str]:
     """``--statistics`` in the formats that hold it, for the same map."""
     import io
 
-    from xodrlint.cli.reports import statistics_renderer
+    from xodrlint.cli.check.reports import statistics_renderer
 
     table, document = io.StringIO(), io.StringIO()
     statistics_renderer("text", result)(table)

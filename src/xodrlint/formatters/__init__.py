@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any, Final, Protocol, TextIO, cast
 from xodrlint.findings import FileReport, RunResult
 
 if TYPE_CHECKING:
-    from xodrlint.plugins import Plugin
+    from xodrlint.config.plugins import Plugin
 
 ENTRY_POINT_GROUP: Final = "xodrlint.formatters"
 
@@ -61,7 +61,7 @@ class FormatterOptions(Protocol):
 
 def _entry_points() -> list[Plugin]:
     # the scan costs a start-up (and is cached); a built-in format never needs it
-    from xodrlint.plugins import installed
+    from xodrlint.config.plugins import installed
 
     return installed(ENTRY_POINT_GROUP)
 

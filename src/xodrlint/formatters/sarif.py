@@ -50,9 +50,9 @@ from pathlib import Path
 from typing import Any, Final, TextIO
 from urllib.parse import quote
 
-from xodrlint.config import DEFAULT_SARIF_MAX_RESULTS
+from xodrlint.config.settings import DEFAULT_SARIF_MAX_RESULTS
 from xodrlint.findings import Finding, RuleMeta, RunResult, Severity, Suppressed, relative_path
-from xodrlint.remote import is_url
+from xodrlint.inputs.remote import is_url
 
 from ._common import MALFORMED, rules_by_code, run_fingerprints
 

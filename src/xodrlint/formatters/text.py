@@ -13,8 +13,8 @@ from rich.console import Console
 from rich.text import Text
 
 from xodrlint.findings import FileReport, Finding, RunResult, Severity
+from xodrlint.formatters.output import color_wanted, interactive
 from xodrlint.messages import one_line, plural
-from xodrlint.output import color_wanted, interactive
 
 STYLE: Final = {
     Severity.ERROR: "bold red",

@@ -14,7 +14,7 @@ from typing import Final
 
 from lxml import etree
 
-from xodrlint.document import Document
+from xodrlint.document.load import Document
 from xodrlint.findings import Finding
 from xodrlint.geometry.tracks import TrackGeometry
 from xodrlint.mapview.place import Placer, Point, geometry_start

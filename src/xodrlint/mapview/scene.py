@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from functools import partial
 
-from xodrlint.document import Document
+from xodrlint.document.load import Document
 from xodrlint.geometry import polylines
 from xodrlint.mapview.place import Placer, Point
 from xodrlint.model import RailNetwork, Road

@@ -34,6 +34,7 @@ from xodrlint.model.network import (
     non_finite,
     number,
     numbers,
+    section_ranges,
 )
 
 __all__ = [
@@ -61,4 +62,5 @@ __all__ = [
     "non_finite",
     "number",
     "numbers",
+    "section_ranges",
 ]

@@ -24,7 +24,15 @@ from collections.abc import Callable, Iterable, Iterator, Mapping
 from types import ModuleType
 from typing import Final, NamedTuple
 
-from xodrlint.findings import OPTION_KINDS, Hit, RuleMeta, RuleOption, Severity, doc_summary
+from xodrlint.findings import (
+    CHILD_KINDS,
+    OPTION_KINDS,
+    Hit,
+    RuleMeta,
+    RuleOption,
+    Severity,
+    doc_summary,
+)
 from xodrlint.model import (
     NON_TRAFFIC_LANE_TYPES,
     RAIL_LANE_TYPES,
@@ -49,15 +57,27 @@ from xodrlint.model import (
     non_finite,
     number,
     numbers,
+    section_ranges,
+)
+from xodrlint.model.lane_profiles import (
+    S_TOLERANCE,
+    Extremes,
+    Piecewise,
+    centre_terms,
+    extremes,
+    lane_width,
 )
 
 __all__ = [
     "API_VERSION",
+    "CHILD_KINDS",
     "NON_TRAFFIC_LANE_TYPES",
     "RAIL_LANE_TYPES",
     "RESERVED_PREFIXES",
+    "S_TOLERANCE",
     "Connection",
     "Cubic",
+    "Extremes",
     "Hit",
     "Junction",
     "JunctionLaneLink",
@@ -65,6 +85,7 @@ __all__ = [
     "LaneLink",
     "LaneSection",
     "PartnerRef",
+    "Piecewise",
     "Platform",
     "RailNetwork",
     "Road",
@@ -78,19 +99,23 @@ __all__ = [
     "Station",
     "Switch",
     "TrackRef",
+    "centre_terms",
     "collect",
+    "extremes",
     "integer",
+    "lane_width",
     "non_finite",
     "number",
     "numbers",
     "rule",
+    "section_ranges",
 ]
 
 #: The rule API's version, ``(major, minor)``: the minor grows when names or fields are
 #: added, the major when one is removed, renamed or changes meaning. A pack states the
 #: version it was written for as ``XODRLINT_RULE_API`` in the module its entry point
 #: names; a pack of another major, or of a newer minor, is not loaded.
-API_VERSION: Final = (1, 1)
+API_VERSION: Final = (1, 2)
 
 #: Code prefixes of the built-in rule families, and ``X`` for the linter's own (XS, XL,
 #: and families to come). A third-party pack whose codes start with one of them is not

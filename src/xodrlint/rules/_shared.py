@@ -8,9 +8,7 @@ from typing import Final, TypeVar
 
 from lxml import etree
 
-from xodrlint.findings import RuleOption
-from xodrlint.model import non_finite
-from xodrlint.model.lane_profiles import S_TOLERANCE
+from xodrlint.rules import S_TOLERANCE, RuleOption, non_finite
 
 __all__ = [
     "S_TOLERANCE",

@@ -1,5 +1,6 @@
 """Hover text and code actions for xodrlint's diagnostics: the rule's summary and why it
-matters, and the suppression comments the command line honours (:mod:`xodrlint.suppress`)."""
+matters, and the suppression comments the command line honours
+(:mod:`xodrlint.engine.suppressions`)."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ from typing import Final
 
 from lsprotocol import types
 
-from xodrlint.registry import Registry
+from xodrlint.rules.registry import Registry
 from xodrlint.server.convert import SOURCE
 
 _INDENT: Final = re.compile(r"[ \t]*")

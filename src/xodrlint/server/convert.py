@@ -10,9 +10,9 @@ from typing import Final
 
 from lsprotocol import types
 
+from xodrlint.document.positions import lines_of
 from xodrlint.findings import FileReport, Finding, Severity
-from xodrlint.positions import lines_of
-from xodrlint.registry import Registry
+from xodrlint.rules.registry import Registry
 
 SOURCE: Final = "xodrlint"
 HELP_URI: Final = "https://github.com/xodrlint/xodrlint/blob/main/docs/rules/{code}.md"

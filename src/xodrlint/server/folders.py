@@ -8,20 +8,19 @@ from dataclasses import replace
 from pathlib import Path
 from typing import NamedTuple
 
-from xodrlint.config import (
-    CONFIG_NAMES,
+from xodrlint.config.discovery import CONFIG_NAMES, config_folders, find_config
+from xodrlint.config.settings import (
     DEFAULT,
     DEFAULT_RULE_TIMEOUT,
     ConfigError,
     ConfigFile,
     Settings,
-    config_folders,
-    find_config,
     settings_from,
 )
-from xodrlint.engine import Linter, LintOptions, SelectorError
-from xodrlint.registry import Registry
-from xodrlint.rule_options import declared_options
+from xodrlint.engine.linter import Linter, LintOptions
+from xodrlint.rules.options import declared_options
+from xodrlint.rules.registry import Registry
+from xodrlint.rules.selection import SelectorError
 
 
 class Choice(NamedTuple):

@@ -20,8 +20,9 @@ from pygls.lsp.server import LanguageServer
 from pygls.uris import to_fs_path
 
 from xodrlint import __version__
-from xodrlint.api import XODR_SUFFIX, default_registry
-from xodrlint.registry import Registry
+from xodrlint.api import default_registry
+from xodrlint.inputs.collect import XODR_SUFFIX
+from xodrlint.rules.registry import Registry
 from xodrlint.server.actions import code_actions, covers, hover_text
 from xodrlint.server.convert import SOURCE, diagnostics, document_bytes
 from xodrlint.server.worker import DEFAULT_DEADLINE, LintWorker, Outcome

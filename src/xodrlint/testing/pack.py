@@ -21,8 +21,8 @@ from xodrlint.testing.pages import render_page
 
 if TYPE_CHECKING:
     from xodrlint.findings import FileReport
-    from xodrlint.registry import Registry
     from xodrlint.rules import Rule
+    from xodrlint.rules.registry import Registry
 
 
 class PackError(ValueError):
@@ -53,8 +53,8 @@ class RulePack:
     def rules(self) -> tuple[Rule, ...]:
         """The pack's rules, loaded and checked as an installed pack is (a rule API it
         was not written for, a reserved code prefix: :class:`PackError`)."""
-        from xodrlint.plugins import Plugin
-        from xodrlint.registry import ENTRY_POINT_GROUP, PackRefused, load_pack
+        from xodrlint.config.plugins import Plugin
+        from xodrlint.rules.registry import ENTRY_POINT_GROUP, PackRefused, load_pack
 
         rules: dict[str, Rule] = {}
         for target in self.targets:
@@ -75,7 +75,7 @@ class RulePack:
     def registry(self) -> Registry:
         """Every installed rule, with the pack's own from the tree under test over an
         installed release of it: a case may select other packs' rules too."""
-        from xodrlint.registry import Registry, load_registry
+        from xodrlint.rules.registry import Registry, load_registry
 
         by_code = {r.code: r for r in load_registry().rules}
         by_code.update((r.code, r) for r in self.rules)
@@ -87,7 +87,7 @@ class RulePack:
 
     def lint(self, case: RuleCase) -> FileReport:
         """The case linted with its selection, as ``xodrlint check --select`` would."""
-        from xodrlint.engine import Linter, LintOptions
+        from xodrlint.engine.linter import Linter, LintOptions
 
         options = LintOptions(
             select=case.select, rule_options=case.options, all_versions=case.all_versions
@@ -98,8 +98,8 @@ class RulePack:
         """How the findings of ``case`` differ from its ``expect`` marks, line and code."""
         if not case.path.name.startswith(("valid_", "invalid_")):
             return [f"{case.id}: a case is named valid_* or invalid_*"]
-        from xodrlint.engine import SelectorError
-        from xodrlint.rule_options import OptionError
+        from xodrlint.rules.options import OptionError
+        from xodrlint.rules.selection import SelectorError
 
         try:
             report = self.lint(case)

@@ -17,9 +17,9 @@ from typing import Final
 
 from lxml import etree
 
-from xodrlint.document import Document
+from xodrlint.document.load import Document
+from xodrlint.document.positions import TreePositions, parser_line
 from xodrlint.findings import CHILD_KINDS, Hit
-from xodrlint.positions import TreePositions, parser_line
 from xodrlint.validation.identities import FirstHolders, key_fields, selector_of
 from xodrlint.validation.libxml2_direct import SchemaError, direct_schema
 from xodrlint.validation.messages import Explained, TypeCatalog, explain_libxml2

@@ -18,7 +18,7 @@ from typing import Final, NamedTuple
 
 from platformdirs import user_data_path
 
-from xodrlint.files import os_reason, read_regular_file, read_regular_head
+from xodrlint.inputs.files import os_reason, read_regular_file, read_regular_head
 
 SCHEMA_PATH_ENV: Final = "XODRLINT_SCHEMA_PATH"
 BUILTIN_DIR: Final = Path(__file__).parent / "builtin"

@@ -32,7 +32,7 @@ from typing import Final
 
 from lxml import etree
 
-from xodrlint.config import shown_value
+from xodrlint.config.settings import shown_value
 from xodrlint.validation.sets import SchemaLoadError, read_schema_file
 
 XS: Final = "http://www.w3.org/2001/XMLSchema"

@@ -21,12 +21,12 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import NamedTuple, Protocol, TypeVar
 
-from xodrlint.document import Document, Version, nearest_published
+from xodrlint.concurrency import background
+from xodrlint.concurrency.background import Pending
+from xodrlint.document.load import Document, Version, nearest_published
 from xodrlint.findings import Hit
 from xodrlint.validation.libxml2 import BuiltinRailroadValidator, Libxml2Validator
 from xodrlint.validation.sets import SchemaFinder, SchemaSet
-from xodrlint.workers import background
-from xodrlint.workers.background import Pending
 
 
 class SchemaCheck(NamedTuple):

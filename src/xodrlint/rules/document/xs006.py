@@ -52,8 +52,7 @@ from typing import Final
 
 from lxml import etree
 
-from xodrlint.findings import CHILD_KINDS, Hit, Severity
-from xodrlint.rules import RailNetwork, rule
+from xodrlint.rules import CHILD_KINDS, Hit, RailNetwork, Severity, rule
 
 #: Which railroad rule reports a schema identity error better, by kind and element.
 TAKEN_OVER_BY: Final = {

@@ -12,8 +12,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from typing import TypeVar
 
-from xodrlint.model.network import section_ranges
-from xodrlint.rules import Lane, LaneSection, RailNetwork, Road
+from xodrlint.rules import Lane, LaneSection, RailNetwork, Road, section_ranges
 
 _V = TypeVar("_V")
 

@@ -76,10 +76,10 @@ import math
 from collections.abc import Iterator
 from typing import Final, NamedTuple
 
-from xodrlint.model.lane_profiles import S_TOLERANCE, centre_terms, extremes
 from xodrlint.rules import (
     NON_TRAFFIC_LANE_TYPES,
     RAIL_LANE_TYPES,
+    S_TOLERANCE,
     Hit,
     Lane,
     LaneSection,
@@ -88,6 +88,8 @@ from xodrlint.rules import (
     RuleOption,
     Settings,
     Severity,
+    centre_terms,
+    extremes,
     number,
     rule,
 )

@@ -56,8 +56,18 @@ import math
 from collections.abc import Iterator
 from typing import Final, NamedTuple
 
-from xodrlint.model.lane_profiles import S_TOLERANCE, extremes, lane_width
-from xodrlint.rules import Hit, RailNetwork, Road, RuleOption, Settings, Severity, rule
+from xodrlint.rules import (
+    S_TOLERANCE,
+    Hit,
+    RailNetwork,
+    Road,
+    RuleOption,
+    Settings,
+    Severity,
+    extremes,
+    lane_width,
+    rule,
+)
 from xodrlint.rules._shared import first_non_finite, metres
 from xodrlint.rules.lanes._labels import lane_label
 from xodrlint.rules.lanes._templates import judged_once_per_layout, own_lane, ranged_sections

@@ -9,7 +9,7 @@ from xodrlint.rules import RailNetwork, Switch
 from xodrlint.rules.switches._tracks import usable_tracks
 
 if TYPE_CHECKING:
-    from xodrlint.geometry.tracks import TrackGeometry, TrackPoint
+    from xodrlint.rules.geometry import TrackGeometry, TrackPoint
 
 SwitchPoints = tuple["TrackPoint", "TrackPoint"]
 
@@ -20,7 +20,7 @@ class _EverySwitch:
 
     def __init__(self, network: RailNetwork) -> None:
         # imported here: a file without switches never loads the plan-view geometry
-        from xodrlint.geometry.tracks import TrackGeometry
+        from xodrlint.rules.geometry import TrackGeometry
 
         # no reference back to the network: a cycle would keep each file's model alive
         # until a collection, where the engine frees it as soon as the file is done

@@ -83,7 +83,7 @@ ANGLE: Final = RuleOption(
 )
 def switch_direction_mismatch(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
     s_tolerance = S_TOLERANCE_OPTION.number(settings)
-    from xodrlint.geometry.tracks import turn_beyond
+    from xodrlint.rules.geometry import turn_beyond
 
     limit = ANGLE.number(settings)
     apart = TOLERANCE.number(settings) + S_TOLERANCE

@@ -25,7 +25,7 @@ from xodrlint.rules import Junction, Lane, LaneLink, LaneSection, RailNetwork, R
 if TYPE_CHECKING:
     from lxml import etree
 
-    from xodrlint.geometry.tracks import TrackGeometry, TrackPoint
+    from xodrlint.rules.geometry import TrackGeometry, TrackPoint
 
 #: The end of its road a road link (or a lane link) is at.
 END_OF: Final = {"predecessor": "start", "successor": "end"}
@@ -381,7 +381,7 @@ def find_joints(network: RailNetwork, links: Sequence[TrackLink]) -> Iterator[Jo
             continue
         seen.add(ends)
         if tracks is None:
-            from xodrlint.geometry.tracks import TrackGeometry  # loaded only for a railway
+            from xodrlint.rules.geometry import TrackGeometry  # loaded only for a railway
 
             tracks = network.shared(TrackGeometry)
         layout = (road.lane_template, end, target.lane_template, target_end)

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 from xodrlint.rules import RailNetwork, Road
 
 if TYPE_CHECKING:
-    from xodrlint.geometry.evaluable import PlanView
+    from xodrlint.rules.geometry import PlanView
 
 
 class TrackPlanViews(list[tuple[Road, "PlanView"]]):
@@ -18,7 +18,7 @@ class TrackPlanViews(list[tuple[Road, "PlanView"]]):
     every track."""
 
     def __init__(self, network: RailNetwork) -> None:
-        from xodrlint.geometry.tracks import TrackGeometry  # loaded only for a railway
+        from xodrlint.rules.geometry import TrackGeometry  # loaded only for a railway
 
         roads = network.rail_roads
         super().__init__(network.shared(TrackGeometry).plan_views(roads) if roads else ())

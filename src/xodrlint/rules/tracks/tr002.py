@@ -75,7 +75,7 @@ ANGLE: Final = RuleOption(
     defers_to=("TR003", "TR004", "TR005"),
 )
 def track_link_kink(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
-    from xodrlint.geometry.tracks import turn_beyond
+    from xodrlint.rules.geometry import turn_beyond
 
     limit = ANGLE.number(settings)
     gap = TOLERANCE.number(settings)

@@ -67,7 +67,7 @@ from xodrlint.rules.tracks.tr001 import TOLERANCE
 from xodrlint.rules.tracks.tr002 import ANGLE
 
 if TYPE_CHECKING:
-    from xodrlint.geometry import Pose, Record
+    from xodrlint.rules.geometry import Pose, Record
 
 
 @rule(
@@ -78,7 +78,7 @@ if TYPE_CHECKING:
     options=(TOLERANCE, ANGLE),
 )
 def track_plan_view_discontinuous(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
-    from xodrlint.geometry.tracks import turn_beyond
+    from xodrlint.rules.geometry import turn_beyond
 
     tolerance, limit = TOLERANCE.number(settings), ANGLE.number(settings)
     for road, view in track_plan_views(network):

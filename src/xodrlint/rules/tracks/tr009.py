@@ -59,7 +59,7 @@ from xodrlint.rules._shared import S_TOLERANCE_OPTION, beyond, metres, quoted
 from xodrlint.rules.tracks._planview import track_plan_views
 
 if TYPE_CHECKING:
-    from xodrlint.geometry import Record
+    from xodrlint.rules.geometry import Record
 
 #: The largest difference (m) allowed between a track's length and its plan view's.
 LENGTH_TOLERANCE: Final = 0.01

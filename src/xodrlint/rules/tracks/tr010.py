@@ -67,7 +67,7 @@ from xodrlint.rules._shared import S_TOLERANCE, beyond, metres, quoted
 from xodrlint.rules.tracks._network import joints
 
 if TYPE_CHECKING:
-    from xodrlint.geometry.profiles import VerticalProfiles
+    from xodrlint.rules.geometry import VerticalProfiles
 
 TOLERANCE: Final = RuleOption(
     name="elevation-tolerance",
@@ -85,7 +85,7 @@ TOLERANCE: Final = RuleOption(
     defers_to=("TR003", "TR004", "TR005", "TR014"),
 )
 def track_elevation_step(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
-    from xodrlint.geometry.profiles import VerticalProfiles
+    from xodrlint.rules.geometry import VerticalProfiles
 
     tolerance = TOLERANCE.number(settings)
     profiles = network.shared(VerticalProfiles)

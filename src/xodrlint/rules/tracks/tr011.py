@@ -84,7 +84,7 @@ _SLACK: Final = 1e-9
     defers_to=("TR014",),
 )
 def track_too_steep(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
-    from xodrlint.geometry.profiles import VerticalProfiles
+    from xodrlint.rules.geometry import VerticalProfiles
 
     rail_limit, tram_limit = MAX_RAIL.number(settings), MAX_TRAM.number(settings)
     profiles = network.shared(VerticalProfiles)

@@ -75,7 +75,7 @@ _SLACK: Final = 1e-9
     defers_to=("TR014",),
 )
 def track_cant_too_large(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
-    from xodrlint.geometry.profiles import VerticalProfiles
+    from xodrlint.rules.geometry import VerticalProfiles
 
     limit = MAX_CANT.number(settings)
     profiles = network.shared(VerticalProfiles)

@@ -68,7 +68,7 @@ from xodrlint.rules._shared import S_TOLERANCE, below, metres, quoted
 from xodrlint.rules.tracks._planview import track_plan_views
 
 if TYPE_CHECKING:
-    from xodrlint.geometry.curvature import LaneBend
+    from xodrlint.rules.geometry import LaneBend
 
 MIN_RAIL: Final = RuleOption(
     name="min-radius-rail",
@@ -91,7 +91,7 @@ MIN_TRAM: Final = RuleOption(
     defers_to=("TR014",),
 )
 def track_radius_too_small(network: RailNetwork, settings: Settings) -> Iterator[Hit]:
-    from xodrlint.geometry.curvature import LaneCurvature, record_elements
+    from xodrlint.rules.geometry import LaneCurvature, record_elements
 
     limits = {"rail": MIN_RAIL.number(settings), "tram": MIN_TRAM.number(settings)}
     curvature = network.shared(LaneCurvature)

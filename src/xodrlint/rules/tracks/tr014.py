@@ -68,8 +68,7 @@ from xodrlint.rules._shared import metres, quoted
 from xodrlint.rules.tracks._planview import track_plan_views
 
 if TYPE_CHECKING:
-    from xodrlint.geometry import GeometryProblem
-    from xodrlint.geometry.profiles import Entry
+    from xodrlint.rules.geometry import Entry, GeometryProblem
 
 #: What a bad entry of each profile keeps from being judged.
 _ELEVATION_NOT_JUDGED: Final = "its gradient and elevation steps are"
@@ -88,7 +87,7 @@ _NOT_JUDGED: Final = (
     severity=Severity.ERROR,
 )
 def track_geometry_unreadable(network: RailNetwork) -> Iterator[Hit]:
-    from xodrlint.geometry.profiles import VerticalProfiles
+    from xodrlint.rules.geometry import VerticalProfiles
 
     for road, view in track_plan_views(network):
         for problem in view.problems:
@@ -124,7 +123,7 @@ def _entry(element: etree._Element) -> str:
 def _unreadable_entries(road: Road, entries: Iterable[Entry], judged: str) -> Iterator[Hit]:
     """Each elevation or superelevation entry with a number that is missing, no number or
     no finite number (the vertical rules read the same entries and stay silent on these)."""
-    from xodrlint.geometry.planview import unreadable_numbers
+    from xodrlint.rules.geometry import unreadable_numbers
 
     for entry in entries:
         yield Hit(

@@ -18,7 +18,7 @@ from typing import Final
 
 from lxml import etree
 
-from xodrlint.document import Document
+from xodrlint.document.load import Document
 
 XSI: Final = "http://www.w3.org/2001/XMLSchema-instance"
 

@@ -48,7 +48,8 @@ from typing import Any, Final, Protocol
 
 from lxml import etree
 
-from xodrlint.document import Document
+from xodrlint.concurrency import background
+from xodrlint.document.load import Document
 from xodrlint.findings import Hit
 from xodrlint.validation.sets import SchemaLoadError
 from xodrlint.validation.xsd11 import NeedsFull
@@ -57,7 +58,6 @@ from xodrlint.validation.xsd11.assertions import assertion_errors
 from xodrlint.validation.xsd11.form import Xsd10Form, full_validator, xsd10_form
 from xodrlint.validation.xsd11.governing import Plan, SchemaModel
 from xodrlint.validation.xsd11.recovery import Subtrees, as_xsd11, root_identities, skipped_subtrees
-from xodrlint.workers import background
 
 #: ``full`` validates XSD 1.1 sets with xmlschema alone (slow; the reference behaviour).
 MODE_ENV: Final = "XODRLINT_XSD11"

@@ -26,7 +26,7 @@ from typing import Any, Final
 
 from lxml import etree
 
-from xodrlint import cache, plugins
+from xodrlint.config import cache, plugins
 from xodrlint.validation.sets import SchemaLoadError
 from xodrlint.validation.source import XS, SchemaSource, read_schema_source
 
@@ -255,7 +255,7 @@ def _read_form(
     folder: Path, source: SchemaSource, key: str, *, cached: bool = True
 ) -> Xsd10Form | None:
     """The form in ``folder``, or ``None`` when there is none or it is not to be used:
-    not trusted (see :mod:`xodrlint.cache`), a manifest of another shape, or a file
+    not trusted (see :mod:`xodrlint.config.cache`), a manifest of another shape, or a file
     whose content is not what was written (each case said once on stderr)."""
     manifest_path = folder / MANIFEST
     reason = cache.distrust(manifest_path) if cached else None

@@ -18,7 +18,7 @@ from typing import Any, Final
 import xmlschema
 from lxml import etree
 
-from xodrlint.document import Document
+from xodrlint.document.load import Document
 from xodrlint.findings import Hit
 from xodrlint.validation.messages import (
     duplicate_key_message,
