@@ -4,7 +4,7 @@
                                      [--large-edits 5] [--size-mb 20] [--workdir DIR]
 
 Generates the 0.2 MB and the 20 MB mixed networks (benchmarks/generate.py), starts the
-server through pytest-lsp's client (as tests/test_server.py does), opens each, and times
+server through pytest-lsp's client (as tests/server/test_server.py does), opens each, and times
 edits: each edit changes one attribute value in place (an incremental change, as editors
 send them); the time counted is from the end of the server's 300 ms debounce to the
 diagnostics of that version arriving. Prints the median over ``--edits`` edits on the

@@ -22,7 +22,7 @@ REPO: Final = Path(__file__).resolve().parents[1]
 IMAGES: Final = REPO / "docs" / "images"
 CHROMIUM: Final = "/usr/bin/chromium"
 #: Headless, and nothing that reaches for the network (it may be closed): the browser test
-#: (tests/test_map_browser.py) starts Chromium with these too.
+#: (tests/mapview/test_map_browser.py) starts Chromium with these too.
 HEADLESS_FLAGS: Final = (
     "--headless",
     "--no-sandbox",

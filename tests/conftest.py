@@ -17,7 +17,7 @@ import pytest
 for _pool in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_pool, "1")
 
-#: The plugin that runs xodrlint's own rules as a pack under test (tests/test_rule_cases.py,
+#: The plugin that runs xodrlint's own rules as a pack under test (tests/rules/test_rule_cases.py,
 #: tests/test_docs.py), loaded by name as a third-party pack loads it with -p.
 pytest_plugins = ["xodrlint.testing.plugin"]
 

@@ -1,2 +1,2 @@
 """A rule pack that misbehaves in every way a plugin can: used only by the tests
-(tests/test_hostile_plugins.py), never installed."""
+(tests/config/test_hostile_plugins.py), never installed."""

@@ -12,10 +12,11 @@ tags that have errors. The messages and lines are libxml2's own, as in lxml's lo
 This runs where it can: CPython, and an lxml module that exports libxml2's functions (the
 wheels on PyPI link libxml2 in and do). A self-check on first use confirms that the
 structures read as documented; otherwise lxml's ``XMLSchema`` runs, with the same findings
-(tests/test_schema_direct.py compares both on the corpus and broken railways). They differ
-only where this route does better: an error inside an element of a foreign namespace is
-placed on that element (lxml's path for it cannot be read back, so that route names the
-document), and a document with an entity reference is validated (lxml's route raises).
+(tests/validation/test_schema_direct.py compares both on the corpus and broken railways).
+They differ only where this route does better: an error inside an element of a foreign
+namespace is placed on that element (lxml's path for it cannot be read back, so that
+route names the document), and a document with an entity reference is validated (lxml's
+route raises).
 """
 
 from __future__ import annotations

@@ -1,0 +1,843 @@
+"""The XSD 1.1 fast path (libxml2 on the XSD 1.0 form, plus the 1.1-only checks) finds what
+full XSD 1.1 validation (xmlschema) finds: on the corpus, on files broken against every
+assertion and type alternative of the official schemas, and on the rule cases; and its
+cache of derived schema forms is written once, keyed by content, and optional."""
+
+from __future__ import annotations
+
+import re
+import shutil
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pytest
+from lxml import etree
+
+from tests.conftest import CORPUS_RAIL, REPO, SHARED, SHARED_SCHEMAS, needs_shared
+from xodrlint.concurrency import background
+from xodrlint.document.load import Document, load_bytes
+from xodrlint.findings import Hit
+from xodrlint.validation.libxml2 import Libxml2Validator
+from xodrlint.validation.sets import SchemaFinder, SchemaLoadError, SchemaSet
+from xodrlint.validation.source import XS
+from xodrlint.validation.validators import SchemaValidators
+from xodrlint.validation.xsd11 import fast as xsd11_fast
+from xodrlint.validation.xsd11.alternatives import holds_a_site
+from xodrlint.validation.xsd11.fast import FastXsd11Validator, xsd11_validator
+from xodrlint.validation.xsd11.form import CACHE_DIR_ENV, derive_xsd10, xsd10_form
+from xodrlint.validation.xsd11.full import Xsd11Validator
+
+XSD11_SETS = ("1.8.0", "1.8.1", "1.9.0")
+LARGE = SHARED / "corpus" / "large"
+#: The rule cases: rules/<CODE>/*.xodr and rules/families/<pack>/*.xodr.
+RULE_CASES = sorted(REPO.glob("rules/*/*.xodr")) + sorted(REPO.glob("rules/families/*/*.xodr"))
+
+pytestmark = needs_shared
+
+
+@pytest.fixture(autouse=True)
+def cache(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """Every test derives into its own cache folder, never the user's."""
+    folder = tmp_path / "cache"
+    monkeypatch.setenv(CACHE_DIR_ENV, str(folder))
+    monkeypatch.delenv(xsd11_fast.MODE_ENV, raising=False)
+    return folder
+
+
+@dataclass(frozen=True)
+class Pair:
+    full: Xsd11Validator
+    fast: FastXsd11Validator
+
+
+@pytest.fixture(scope="module")
+def pairs(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, Pair]]:
+    """Both validators for every XSD 1.1 set, built once for the module."""
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv(CACHE_DIR_ENV, str(tmp_path_factory.mktemp("cache")))
+        patch.delenv(xsd11_fast.MODE_ENV, raising=False)
+        built = {}
+        for version in XSD11_SETS:
+            entry = _entry(version)
+            fast = xsd11_validator(entry, Libxml2Validator)
+            assert isinstance(fast, FastXsd11Validator)
+            built[version] = Pair(Xsd11Validator(entry), fast)
+        yield built
+
+
+def _entry(version: str) -> Path:
+    return SHARED_SCHEMAS / version / "OpenDRIVE_Core.xsd"
+
+
+def _as_version(data: bytes, version: str) -> bytes:
+    """The file, its header declaring ``version`` (major.minor)."""
+    major, minor = version.split(".")[:2]
+    header = re.search(rb"<header\b[^>]*>", data)
+    assert header is not None
+    tag = re.sub(rb'revMajor="[^"]*"', f'revMajor="{major}"'.encode(), header[0])
+    tag = re.sub(rb'revMinor="[^"]*"', f'revMinor="{minor}"'.encode(), tag)
+    return data[: header.start()] + tag + data[header.end() :]
+
+
+Seen = tuple[int, str, str]
+
+
+def _seen(doc: Document, hits: list[Hit]) -> tuple[set[Seen], set[tuple[Seen, str]]]:
+    """What the engine makes of the hits: (line, XPath, kind); and with the message for
+    what both paths word alike (keys, keyrefs, assertions)."""
+    found: set[Seen] = set()
+    worded: set[tuple[Seen, str]] = set()
+    for hit in hits:
+        if hit.element is not None:
+            where = (doc.line_of(hit.element), doc.xpath_of(hit.element), hit.kind)
+        else:
+            where = (hit.line or 1, "/", hit.kind)
+        found.add(where)
+        if hit.kind in ("keyref", "duplicate") or "assertion" in hit.message:
+            worded.add((where, hit.message))
+    return found, worded
+
+
+def _same_findings(pair: Pair, data: bytes, name: str) -> set[Seen]:
+    """Validate with both; assert they agree; return what they found."""
+    doc = load_bytes(data, name)
+    assert doc.tree is not None, name
+    before = etree.tostring(doc.tree)
+    fast, fast_worded = _seen(doc, list(pair.fast.hits(doc)))
+    assert etree.tostring(doc.tree) == before, "the fast path left the tree changed"
+    first, finish, _ = pair.fast.stages(doc)  # as a thread and the caller run it
+    assert _seen(doc, finish(first)) == (fast, fast_worded), name
+    full, full_worded = _seen(doc, list(pair.full.hits(doc)))
+    assert fast == full, (name, sorted(full - fast), sorted(fast - full))
+    assert fast_worded == full_worded, name
+    return full
+
+
+# -- (a) the corpus ------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("version", XSD11_SETS)
+def test_rail_corpus_gives_the_same_findings(pairs: dict[str, Pair], version: str) -> None:
+    for path in sorted(CORPUS_RAIL.glob("*.xodr")):
+        _same_findings(pairs[version], _as_version(path.read_bytes(), version), path.name)
+
+
+@pytest.mark.parametrize(
+    "name",
+    [
+        "CARLA_Town03.xodr",  # 2,090 errors, header children out of order
+        "SUMO-gen_bs3d_Braunschweig.xodr",  # 69 rail lanes, 1,574 roads
+    ],
+)
+def test_large_maps_declared_1_8_give_the_same_findings(pairs: dict[str, Pair], name: str) -> None:
+    # "1.8" is checked against the newest 1.8 set, as the schema finder picks it
+    found = _same_findings(pairs["1.8.1"], _as_version((LARGE / name).read_bytes(), "1.8"), name)
+    assert (name == "CARLA_Town03.xodr") == bool(found)
+
+
+# -- (b) a file broken against every assertion and type alternative ------------------------
+
+BASE = """<?xml version="1.0" encoding="UTF-8"?>
+<OpenDRIVE>
+  <header revMajor="1" revMinor="{minor}" name="mutations"/>
+  <road length="100" id="1" junction="-1">
+    <planView>
+      <geometry s="0" x="0" y="0" hdg="0" length="100"><line/></geometry>
+    </planView>
+    {lateral}
+    {lanes}
+    <objects>{objects}</objects>
+    <signals>{signals}</signals>
+  </road>
+  <road length="10" id="2" junction="10">
+    <planView>
+      <geometry s="0" x="0" y="0" hdg="0" length="10"><line/></geometry>
+    </planView>
+    <lanes>
+      <laneSection s="0">
+        <center><lane id="0" type="none" level="false"/></center>
+      </laneSection>
+    </lanes>
+  </road>
+  {junctions}
+</OpenDRIVE>
+"""
+LANES = """<lanes{attrs}>{offset}
+      <laneSection s="0"{section}>
+        <center><lane id="0" type="none" level="false"/></center>
+        <right><lane id="-1" type="driving" level="false">{width}</lane></right>
+      </laneSection>
+    </lanes>"""
+WIDTH = '<width sOffset="0" a="3.5" b="0" c="0" d="0"/>'
+BORDER = '<border sOffset="0" a="3.5" b="0" c="0" d="0"/>'
+OFFSET = '<laneOffset s="0" a="0" b="0" c="0" d="0"/>'
+OBJECT = '<object id="{id}" s="1" t="0" zOffset="0" orientation="none" {attrs}>{body}</object>'
+MARKING = '<marking color="white" spaceLength="1" lineLength="1" startOffset="0" stopOffset="0"{side}>{corners}</marking>'
+CORNERS = '<cornerReference id="0"/><cornerReference id="1"/>'
+OUTLINE = '<outlines><outline id="0"><cornerLocal u="0" v="0" z="0" height="1"/><cornerLocal u="1" v="0" z="0" height="1"/>{markings}</outline></outlines>'
+CONNECTION = (
+    '<connection id="{id}" incomingRoad="1" contactPoint="start" {attrs}>{body}</connection>'
+)
+PREDECESSOR = '<predecessor elementType="road" elementId="1" elementS="0" elementDir="+"/>'
+SUCCESSOR = '<successor elementType="road" elementId="1" elementS="1" elementDir="+"/>'
+
+
+def _object(attrs: str, body: str = "") -> dict[str, str]:
+    return {"objects": OBJECT.format(id=7, attrs=attrs, body=body)}
+
+
+def _junction(attrs: str, body: str) -> dict[str, str]:
+    return {"junctions": f'<junction id="10" {attrs}>{body}</junction>'}
+
+
+def _twice(attrs: str, body: str = "") -> str:
+    return CONNECTION.format(id=1, attrs=attrs, body=body) * 2
+
+
+# Each assertion of the official sets, by (complex type, test), and a file part that
+# breaks it, with the element it is about. Every assertion of every set must be here.
+_PARKING = '<parkingSpace access="all"/>'
+ASSERT_CASES: dict[tuple[str, str], tuple[dict[str, str], str]] = {
+    ("t_junction_common", "count(connection/@id) = count(distinct-values(connection/@id))"): (
+        _junction("", _twice('connectingRoad="2"')),
+        ".//junction",
+    ),
+    ("t_junction_direct", "count(connection/@id) = count(distinct-values(connection/@id))"): (
+        _junction('type="direct"', _twice('linkedRoad="2"')),
+        ".//junction",
+    ),
+    ("t_junction_virtual", "count(connection/@id) = count(distinct-values(connection/@id))"): (
+        _junction('type="virtual"', _twice('connectingRoad="2"')),
+        ".//junction",
+    ),
+    (
+        "t_road_objects_object",
+        "not(@radius or @width or @length) or (@radius and not(@width or @length)) or  (@width and @length and not(@radius))",
+    ): (_object('type="pole" width="1"'), ".//object"),
+    (
+        "t_road_objects_object_borders_border",
+        "if (@useCompleteOutline) then not(cornerReference) else count(cornerReference) gt 1",
+    ): (
+        _object(
+            'type="barrier"',
+            '<borders><border width="0.1" type="concrete" outlineId="0" useCompleteOutline="true">'
+            '<cornerReference id="0"/></border></borders>',
+        ),
+        ".//border",
+    ),
+    (
+        "t_road_objects_object_markings_marking",
+        "if (@side) then not(cornerReference) else count(cornerReference) gt 1",
+    ): (
+        _object(
+            'type="roadMark"',
+            "<markings>" + MARKING.format(side=' side="left"', corners=CORNERS) + "</markings>",
+        ),
+        ".//marking",
+    ),
+    (
+        "t_road_objects_object_markings",
+        "if (name(parent::*) = 'outline') then not(parent::*/parent::*/parent::*/markings) else true()",
+    ): (
+        # no instance breaks it either: XSD 1.1 evaluates an assertion on a tree rooted at
+        # its element, where parent::* is empty. Both paths run it on what it is meant for
+        # (markings of an outline of an object that has markings too) and let it hold.
+        _object(
+            'type="roadMark"',
+            OUTLINE.format(
+                markings="<markings>" + MARKING.format(side="", corners=CORNERS) + "</markings>"
+            )
+            + "<markings>"
+            + MARKING.format(side="", corners=CORNERS)
+            + "</markings>",
+        ),
+        "",
+    ),
+    (
+        "t_road_objects_object_markings_marking_cornerReference",
+        "if (name(parent::*) = 'object') then count(cornerReference) = 0 else true()",
+    ): (
+        # the same (and a cornerReference holds no cornerReference): run on a border's
+        _object(
+            'type="barrier"',
+            '<borders><border width="0.1" type="concrete" outlineId="0">'
+            + CORNERS
+            + "</border></borders>",
+        ),
+        "",
+    ),
+    (
+        "t_road_lateralProfile",
+        "not(exists(crossSectionSurface)) or (not(exists(superelevation)) and not(exists(shape)))",
+    ): (
+        {
+            "lateral": '<lateralProfile><superelevation s="0" a="0" b="0" c="0" d="0"/>'
+            '<crossSectionSurface><tOffset><coefficients s="0" a="0" b="0" c="0" d="0"/>'
+            "</tOffset></crossSectionSurface></lateralProfile>"
+        },
+        ".//lateralProfile",
+    ),
+    (
+        "t_road_signals_signal_road",
+        "not(@type = 'multiBoard') or (@type = 'multiBoard' and @dynamic = true() and count(./vmsBoard) gt 0 and count(./staticBoard) gt 0)",
+    ): (
+        # an error for every multiBoard: @dynamic is 'yes' or 'no', never a boolean
+        {
+            "signals": '<signal id="5" s="1" t="0" zOffset="0" dynamic="yes" orientation="+"'
+            ' type="multiBoard" subtype="-1" country="DE"/>'
+        },
+        ".//signal",
+    ),
+    (
+        "t_road_lanes",
+        "if (count(laneOffset) > 0) then count(laneSection//border) = 0 else true()",
+    ): ({"lanes": LANES.format(attrs="", offset=OFFSET, section="", width=BORDER)}, ".//lanes"),
+    ("t_road_lanes", "if (@layer = 'permanent') then not(laneSection/@length) else true()"): (
+        {
+            "lanes": LANES.format(
+                attrs=' layer="permanent"', offset="", section=' length="10"', width=WIDTH
+            )
+        },
+        ".//lanes",
+    ),
+}
+
+for _kind, _attrs, _body in [
+    ("barrier", 'radius="1"', ""),
+    ("building", "", _PARKING),
+    ("crosswalk", 'radius="1"', ""),
+    ("gantry", 'radius="1"', ""),
+    ("obstacle", "", _PARKING),
+    ("parkingSpace", 'radius="1"', ""),
+    ("pole", "", _PARKING),
+    ("roadMark", 'radius="1"', ""),
+    ("roadSurface", "", _PARKING),
+    ("trafficIsland", "", _PARKING),
+    ("tree", "", _PARKING),
+    ("vegetation", "", _PARKING),
+]:
+    # what each kind of object must not have; the test names it first
+    ASSERT_CASES["t_road_objects_object", f"if (@type = '{_kind}') then"] = (
+        _object(f'type="{_kind}" {_attrs}', _body),
+        ".//object",
+    )
+
+# Each type alternative of the official sets, by (element, test or '' for the default),
+# and a file part an element selecting it breaks only under the type it selects.
+ALTERNATIVE_CASES: dict[tuple[str, str], dict[str, str]] = {
+    ("junction", "@type='virtual'"): _junction(
+        'type="virtual"', CONNECTION.format(id=1, attrs='type="virtual"', body="")
+    ),
+    ("junction", "@type='direct'"): _junction(
+        'type="direct"', CONNECTION.format(id=1, attrs='connectingRoad="2"', body="")
+    ),
+    ("junction", "@type='crossing'"): _junction(
+        'type="crossing"', CONNECTION.format(id=1, attrs='connectingRoad="2"', body="")
+    ),
+    ("junction", ""): _junction(
+        'type="default"',
+        CONNECTION.format(id=1, attrs='linkedRoad="2"', body="")
+        + '<roadSection id="1" roadId="1" sStart="0" sEnd="1"/>',
+    ),
+    ("connection", "@type='virtual'"): _junction(
+        'type="virtual"',
+        CONNECTION.format(id=1, attrs='type="virtual" connectingRoad="2"', body=PREDECESSOR),
+    ),
+    ("connection", ""): _junction(
+        'type="virtual"',
+        CONNECTION.format(id=1, attrs='connectingRoad="2"', body=PREDECESSOR + SUCCESSOR),
+    ),
+    ("segment", "@type='lane'"): _junction(
+        "",
+        '<boundary><segment type="lane" roadId="1" boundaryLane="-1" sStart="1" sEnd="2"'
+        ' contactPoint="start"/></boundary>',
+    ),
+    ("segment", "@type='joint'"): _junction(
+        "",
+        '<boundary><segment type="joint" roadId="1" contactPoint="start" jointLaneStart="1"'
+        ' boundaryLane="1"/></boundary>',
+    ),
+    # no default: a segment of no known type keeps its abstract declared type
+    ("segment", ""): _junction(
+        "", '<boundary><segment roadId="1"/><segment type="x" roadId="1" a="1"/></boundary>'
+    ),
+}
+
+
+def _schema_tests(version: str, tag: str) -> set[tuple[str, str]]:
+    """(owner, test) of every xs:assert (owner: complex type) or xs:alternative (owner:
+    element) in the set's files."""
+    found = set()
+    for path in (SHARED_SCHEMAS / version).glob("*.xsd"):
+        for element in etree.parse(str(path)).iter(f"{{{XS}}}{tag}"):
+            owner = next((a for a in element.iterancestors() if a.get("name")), element.getparent())
+            assert owner is not None
+            found.add((owner.get("name", ""), element.get("test", "")))
+    return found
+
+
+def _document(version: str, parts: dict[str, str]) -> bytes:
+    filled = {"lateral": "", "lanes": LANES.format(attrs="", offset="", section="", width=WIDTH)}
+    filled |= {"objects": "", "signals": "", "junctions": ""} | parts
+    return BASE.format(minor=version.split(".")[1], **filled).encode()
+
+
+def _assert_case(owner: str, test: str) -> tuple[dict[str, str], str]:
+    for (case_owner, case_test), case in ASSERT_CASES.items():
+        if case_owner == owner and test.startswith(case_test):
+            return case
+    raise AssertionError(f"no mutation breaks the assertion of {owner}: {test}")
+
+
+@pytest.mark.parametrize("version", XSD11_SETS)
+def test_the_base_file_is_valid(pairs: dict[str, Pair], version: str) -> None:
+    assert _same_findings(pairs[version], _document(version, {}), "base") == set()
+
+
+@pytest.mark.parametrize("version", XSD11_SETS)
+def test_every_assertion_broken_gives_the_same_findings(
+    pairs: dict[str, Pair], version: str
+) -> None:
+    tests = _schema_tests(version, "assert")
+    assert len(tests) >= (1 if version == "1.8.0" else 20)
+    for owner, test in sorted(tests):
+        parts, target = _assert_case(owner, test)
+        data = _document(version, parts)
+        found = _same_findings(pairs[version], data, f"{version} {owner}: {test}")
+        if not target:
+            continue
+        doc = load_bytes(data, "mutated")
+        assert doc.tree is not None
+        element = doc.tree.getroot().find(target)
+        assert element is not None, target
+        where = (doc.line_of(element), doc.xpath_of(element))
+        assertion = [h for h in pairs[version].full.hits(doc) if h.element is element]
+        assert any("assertion" in h.message or "[err:" in h.message for h in assertion), (
+            f"{version}: the mutation does not break {owner}: {test}"
+        )
+        assert (*where, "other") in found
+
+
+@pytest.mark.parametrize("version", XSD11_SETS)
+def test_every_type_alternative_selected_gives_the_same_findings(
+    pairs: dict[str, Pair], version: str
+) -> None:
+    alternatives = _schema_tests(version, "alternative")
+    assert len(alternatives) == 8
+    for owner, test in sorted(alternatives | {("segment", "")}):
+        parts = ALTERNATIVE_CASES[owner, test.replace(" ", "")]
+        found = _same_findings(pairs[version], _document(version, parts), f"{owner} {test}")
+        assert found, f"{version}: the {owner} selecting {test or 'the default'} is valid"
+
+
+def test_the_fast_path_marks_the_selected_types_on_libxml2s_tree(
+    pairs: dict[str, Pair],
+) -> None:
+    # a virtual junction's connection of type 'virtual' must name its predecessor: only
+    # the type the alternatives select says so
+    data = _document("1.9.0", ALTERNATIVE_CASES["connection", "@type='virtual'"])
+    doc = load_bytes(data, "virtual.xodr")
+    hits = list(pairs["1.9.0"].fast.hits(doc))
+    assert [(h.kind, etree.QName(h.element).localname) for h in hits if h.element is not None] == [
+        ("missing_child", "connection")
+    ]
+
+
+def test_keys_below_type_alternatives_are_checked_though_xmlschema_does_not(
+    pairs: dict[str, Pair],
+) -> None:
+    # xmlschema resolves a selector through declared types: t_junction declares no
+    # connection, so 'junction/connection' selects nothing for it. XSD selects instance
+    # elements; libxml2 does, and a connection naming no road is a real defect.
+    junction = _junction("", CONNECTION.format(id=1, attrs='connectingRoad="9"', body=""))
+    for version, pair in pairs.items():
+        refers = pair.full.schema.identities["r_junction_connection_connectingRoad"]
+        assert dict(refers.elements) == {}, "xmlschema checks it now: compare in full"
+        doc = load_bytes(_document(version, junction), "j.xodr")
+        fast = [h for h in pair.fast.hits(doc) if h.element is not None]
+        assert [(h.kind, h.message) for h in fast] == [
+            ("keyref", "'connection/@connectingRoad' names '9', but no 'road' has that @id")
+        ]
+        assert list(pair.full.hits(doc)) == []
+
+
+@pytest.mark.parametrize(
+    ("root", "falls_back"),
+    [
+        (
+            '<OpenDRIVE xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance"'
+            ' xsi:noNamespaceSchemaLocation="OpenDRIVE_Core.xsd">',
+            False,
+        ),
+        ('<OpenDRIVE xmlns:i="http://www.w3.org/2001/XMLSchema-instance">', True),
+    ],
+    ids=["schema-location", "own-xsi-type"],
+)
+def test_files_using_the_xsi_namespace(
+    pairs: dict[str, Pair], monkeypatch: pytest.MonkeyPatch, root: str, falls_back: bool
+) -> None:
+    text = _document("1.9.0", ALTERNATIVE_CASES["connection", "@type='virtual'"]).decode()
+    text = text.replace("<OpenDRIVE>", root)
+    if falls_back:  # a type of the file's own: only full validation knows what to do
+        text = text.replace('<junction id="10"', '<junction i:type="t_junction_virtual" id="10"')
+    fast = pairs["1.9.0"].fast
+    calls: list[Document] = []
+
+    def full_hits(doc: Document) -> Iterator[Hit]:
+        calls.append(doc)
+        return iter(())
+
+    monkeypatch.setattr(fast.full, "hits", full_hits)
+    doc = load_bytes(text.encode(), "xsi.xodr")
+    assert doc.tree is not None
+    before = etree.tostring(doc.tree)
+    list(fast.hits(doc))
+    assert etree.tostring(doc.tree) == before
+    assert bool(calls) is falls_back
+
+
+@pytest.mark.parametrize("value", ["+INF", "INF", "-0", "1e400", " 1 ", "0x1"])
+def test_numbers_read_as_xsd11_reads_them(pairs: dict[str, Pair], value: str) -> None:
+    # '+INF' is an xs:double in XSD 1.1, not in XSD 1.0: such a file is validated in full
+    parts = _object(f'type="pole" height="{value}"')
+    found = _same_findings(pairs["1.9.0"], _document("1.9.0", parts), value)
+    assert bool(found) is (value == "0x1")
+
+
+# -- what libxml2 skips: children after an unexpected one, and elements of abstract type ---
+
+SWITCH = (
+    (CORPUS_RAIL / "ASAM-1.7.0_Ex_Railway-Switch.xodr").read_bytes() if SHARED.is_dir() else b""
+)
+SKIPPED_CASES = {
+    # every road after it is unchecked by libxml2, their ids go missing for the keyrefs
+    "unknown element before the roads": [(b"<road ", b"<foo/><road ")],
+    "unknown element before the roads, a duplicate road id": [
+        (b"<road ", b"<foo/><road "),
+        (b'id="3" junction', b'id="1" junction'),
+    ],
+    "unknown element before the roads, a side track naming no road": [
+        (b"<road ", b"<foo/><road "),
+        (b'<sideTrack id="2" s="0.0000000000000000e+00"', b'<sideTrack id="77" s="x"'),
+    ],
+    "a railroad before the objects": [(b"<objects>", b"<railroad/><objects>")],
+    "a switch without a name among skipped roads": [
+        (b"<road ", b"<foo/><road "),
+        (b'<switch name="Switch12" id="12"', b'<switch id="12"'),
+    ],
+}
+
+
+@pytest.mark.parametrize("case", sorted(SKIPPED_CASES))
+@pytest.mark.parametrize("version", ["1.8.1", "1.9.0"])
+def test_what_libxml2_skips_is_checked_as_xsd11_does(
+    pairs: dict[str, Pair], version: str, case: str
+) -> None:
+    data = SWITCH
+    for old, new in SKIPPED_CASES[case]:
+        assert old in data
+        data = data.replace(old, new, 1)
+    assert _same_findings(pairs[version], _as_version(data, version), case)
+
+
+# -- (c) the rule cases, declared as 1.8 ---------------------------------------------------
+
+
+@pytest.mark.parametrize("version", XSD11_SETS)
+def test_rule_cases_declared_1_8_give_the_same_findings(
+    pairs: dict[str, Pair], version: str
+) -> None:
+    compared = 0
+    for path in RULE_CASES:
+        data = path.read_bytes()
+        if re.search(rb"<header\b[^>]*revMinor=", data) is None:
+            continue  # the XS00x cases that have no version to change
+        if load_bytes(data, path.name).tree is None:
+            continue
+        _same_findings(pairs[version], _as_version(data, "1." + version.split(".")[1]), str(path))
+        compared += 1
+    assert compared > 250
+
+
+# -- the XSD 1.0 form and its cache --------------------------------------------------------
+
+
+@pytest.mark.parametrize("version", XSD11_SETS)
+def test_the_derived_form_compiles_in_libxml2_without_xsd11_constructs(version: str) -> None:
+    with xsd10_form(_entry(version)) as form:
+        assert form.entry is not None and form.unsupported == ()
+        text = "".join(p.read_text("utf-8") for p in form.entry.parent.glob("*.xsd"))
+        etree.XMLSchema(etree.parse(str(form.entry)))
+    assert form.asserts == len(_schema_tests(version, "assert"))
+    assert form.alternatives == 8
+    for construct in ("xs:assert", "xs:alternative", "vc:minVersion"):
+        assert construct not in text
+
+
+def test_the_second_compile_reuses_the_cached_form(
+    cache: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    first = xsd11_validator(_entry("1.8.0"), Libxml2Validator)
+    assert isinstance(first, FastXsd11Validator) and first.form.cached
+    assert first.form.schema_checked  # later builds of these files skip the meta-schema
+    folders = list((cache / "xsd10").iterdir())
+    assert [f.name for f in folders] == [first.form.key]
+    written = {p: p.stat().st_mtime_ns for p in folders[0].iterdir()}
+
+    def never(*args: Any) -> None:
+        raise AssertionError("derived again")
+
+    monkeypatch.setattr("xodrlint.validation.xsd11.form.derive_xsd10", never)
+    second = xsd11_validator(_entry("1.8.0"), Libxml2Validator)
+    assert isinstance(second, FastXsd11Validator) and second.form.key == first.form.key
+    assert {p: p.stat().st_mtime_ns for p in folders[0].iterdir()} == written
+    assert list((cache / "xsd10").iterdir()) == folders  # no partial folder left behind
+
+
+def test_a_changed_schema_gets_a_new_key(cache: Path, tmp_path: Path) -> None:
+    copy = tmp_path / "sets" / "1.8.0"
+    shutil.copytree(SHARED_SCHEMAS / "1.8.0", copy)
+    with xsd10_form(copy / "OpenDRIVE_Core.xsd") as same:
+        pass
+    with xsd10_form(_entry("1.8.0")) as original:
+        pass
+    assert same.key == original.key  # the key is the content, not the place
+    lane = copy / "OpenDRIVE_Lane.xsd"
+    lane.write_bytes(lane.read_bytes() + b"<!-- edited -->\n")
+    with xsd10_form(copy / "OpenDRIVE_Core.xsd") as changed:
+        pass
+    assert changed.key != original.key
+    assert {f.name for f in (cache / "xsd10").iterdir()} == {original.key, changed.key}
+
+
+def test_an_unwritable_cache_still_validates(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, pairs: dict[str, Pair]
+) -> None:
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder")
+    monkeypatch.setenv(CACHE_DIR_ENV, str(blocker / "cache"))
+    validator = xsd11_validator(_entry("1.9.0"), Libxml2Validator)
+    assert isinstance(validator, FastXsd11Validator) and not validator.form.cached
+    assert validator.form.entry is not None and not validator.form.entry.exists()
+    path = CORPUS_RAIL / "libopendrive-rs_railways.xodr"
+    doc = load_bytes(_as_version(path.read_bytes(), "1.9"), path.name)
+    assert _seen(doc, list(validator.hits(doc))) == _seen(doc, list(pairs["1.9.0"].full.hits(doc)))
+
+
+def test_full_validation_on_request(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv(xsd11_fast.MODE_ENV, "full")
+    assert isinstance(xsd11_validator(_entry("1.8.0"), Libxml2Validator), Xsd11Validator)
+
+
+def test_the_fast_path_is_the_default_for_xsd11_sets(tmp_path: Path) -> None:
+    validators = SchemaValidators(SchemaFinder(SHARED_SCHEMAS, environment={}, data_dir=tmp_path))
+    doc = load_bytes((CORPUS_RAIL / "libopendrive-rs_railways.xodr").read_bytes(), "rs.xodr")
+    schema = validators.schema_for(doc)
+    assert isinstance(schema, SchemaSet) and schema.version == (1, 8, 1)
+    check = validators.start(doc).result()  # as the linter validates
+    assert check is not None and len(check.hits) == 4
+    assert all(isinstance(v, FastXsd11Validator) for v in validators._compiled.values())
+
+
+XSD11_SCHEMA = """<?xml version="1.0"?>
+<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema"
+    xmlns:vc="http://www.w3.org/2007/XMLSchema-versioning" vc:minVersion="1.1">
+  {extra}
+  <xs:element name="OpenDRIVE">
+    <xs:complexType>
+      <xs:sequence><xs:element name="header" minOccurs="0"/></xs:sequence>
+      <xs:attribute name="a" type="xs:int"/>
+      <xs:assert test="not(@a) or @a gt 0"/>
+    </xs:complexType>
+  </xs:element>
+  <xs:element name="only10" vc:maxVersion="1.1"/>
+  <xs:element name="only12" vc:minVersion="1.2"/>
+</xs:schema>
+"""
+
+
+def test_derivation_resolves_versioning_and_removes_assertions() -> None:
+    root = etree.fromstring(XSD11_SCHEMA.format(extra="").encode())
+    found = derive_xsd10([root])
+    assert (found.asserts, found.alternatives, found.unsupported) == (1, 0, [])
+    names = [e.get("name") for e in root.iterchildren(f"{{{XS}}}element")]
+    assert names == ["OpenDRIVE"]  # what an XSD 1.1 processor leaves out is left out
+    assert b"vc:" not in etree.tostring(root).replace(b"xmlns:vc", b"")
+    etree.XMLSchema(root)
+
+
+@pytest.mark.parametrize(
+    ("extra", "why"),
+    [
+        ("<xs:defaultOpenContent><xs:any/></xs:defaultOpenContent>", "default open content"),
+        ('<xs:override schemaLocation="other.xsd"/>', "xs:override"),
+        ('<xs:attribute name="i" type="xs:string" inheritable="true"/>', "inheritable"),
+        (
+            '<xs:simpleType name="s"><xs:restriction base="xs:dateTimeStamp"/></xs:simpleType>',
+            "dateTimeStamp",
+        ),
+    ],
+)
+def test_sets_the_xsd10_form_cannot_stand_in_for_are_validated_in_full(
+    tmp_path: Path, extra: str, why: str
+) -> None:
+    (tmp_path / "set.xsd").write_text(XSD11_SCHEMA.format(extra=extra))
+    (tmp_path / "other.xsd").write_text(XSD11_SCHEMA.format(extra="").replace("OpenDRIVE", "x"))
+    with xsd10_form(tmp_path / "set.xsd") as form:
+        assert form.entry is None and any(why in item for item in form.unsupported)
+    if why != "dateTimeStamp":  # xmlschema itself cannot build that one here
+        assert isinstance(xsd11_validator(tmp_path / "set.xsd", Libxml2Validator), Xsd11Validator)
+
+
+def test_a_set_with_a_broken_assertion_is_never_built_unchecked(
+    cache: Path, tmp_path: Path
+) -> None:
+    # xmlschema's unchecked build would turn the broken XPath into an assertion that
+    # always holds: the form records that the strict build failed, and the fast path
+    # builds strictly, so the error surfaces
+    broken = XSD11_SCHEMA.format(extra="").replace("@a gt 0", "@a gt (")
+    (tmp_path / "set.xsd").write_text(broken)
+    validator = xsd11_validator(tmp_path / "set.xsd", Libxml2Validator)
+    assert isinstance(validator, FastXsd11Validator) and not validator.form.schema_checked
+    doc = load_bytes(b'<OpenDRIVE a="-1"><header/></OpenDRIVE>', "a.xodr")
+    with pytest.raises(SchemaLoadError):
+        list(validator.hits(doc))
+
+
+@pytest.mark.parametrize(
+    ("parts", "split"), [({}, True), (ALTERNATIVE_CASES["junction", ""], False)]
+)
+def test_the_first_stage_needs_no_xmlschema_model_where_no_alternative_can_apply(
+    cache: Path, monkeypatch: pytest.MonkeyPatch, parts: dict[str, str], split: bool
+) -> None:
+    # the first stage runs beside the rules (a thread); without type marks to set
+    # it is libxml2 alone, and the slow model is built by the parent after its rules
+    validator = xsd11_validator(_entry("1.9.0"), Libxml2Validator)
+    assert isinstance(validator, FastXsd11Validator)
+    assert validator.form.alternative_sites == frozenset(
+        {
+            ("OpenDRIVE", "junction"),
+            ("junction", "connection"),
+            ("boundary", "segment"),
+        }
+    )
+    doc = load_bytes(_document("1.9.0", parts), "stages.xodr")
+    first, finish, thread_safe = validator.stages(doc)
+    assert thread_safe == split  # libxml2 alone may run in a thread; marking may not
+    model = validator.model
+
+    def no_model() -> Any:
+        raise AssertionError("the first stage built the model")
+
+    monkeypatch.setattr(validator, "model", no_model)
+    if split:
+        raw = first()
+        monkeypatch.setattr(validator, "model", model)
+        assert finish(lambda: raw) == raw == []
+    else:
+        with pytest.raises(AssertionError, match="built the model"):
+            first()
+
+
+def test_a_site_the_byte_scan_misses_is_validated_with_its_marks(
+    pairs: dict[str, Pair],
+) -> None:
+    # a prefixed '<od:junction' escapes the scan for '<junction': the first stage runs
+    # libxml2 without the marks, and the parent, whose plan finds them, validates again
+    data = _document("1.9.0", ALTERNATIVE_CASES["connection", "@type='virtual'"]).decode()
+    legacy = "http://code.asam.net/simulation/standard/opendrive_schema"
+    data = re.sub(r"<(/?)(?=[A-Za-z])", r"<\1od:", data.split("?>", 1)[1])
+    data = data.replace("<od:OpenDRIVE", f'<od:OpenDRIVE xmlns:od="{legacy}"', 1)
+    doc = load_bytes(data.encode(), "prefixed.xodr")
+    assert doc.tree is not None and doc.tree.getroot().find("junction") is not None
+    fast = pairs["1.9.0"].fast
+    assert fast.form.alternative_sites is not None
+    assert not holds_a_site(doc, doc.tree.getroot(), fast.form.alternative_sites)
+    assert _same_findings(pairs["1.9.0"], data.encode(), "prefixed")
+
+
+def test_the_xmlschema_model_is_unpickled_from_the_cache_and_gives_the_same_findings(
+    cache: Path, monkeypatch: pytest.MonkeyPatch, pairs: dict[str, Pair]
+) -> None:
+    first = xsd11_validator(_entry("1.9.0"), Libxml2Validator)
+    assert isinstance(first, FastXsd11Validator)
+    first.full  # noqa: B018 - built once, and kept in the form's folder
+    assert list((cache / "xsd10" / first.form.key).glob("*.pickle"))
+
+    def no_build(*args: Any, **kwargs: Any) -> Any:
+        raise AssertionError("built again")
+
+    import xmlschema
+
+    monkeypatch.setattr(xmlschema, "XMLSchema11", no_build)
+    second = xsd11_validator(_entry("1.9.0"), Libxml2Validator)
+    assert isinstance(second, FastXsd11Validator)
+    pair = Pair(pairs["1.9.0"].full, second)
+    for path in sorted(CORPUS_RAIL.glob("*.xodr")):
+        _same_findings(pair, _as_version(path.read_bytes(), "1.9"), path.name)
+    for owner, test in sorted(_schema_tests("1.9.0", "assert"))[:5]:
+        parts, _ = _assert_case(owner, test)
+        _same_findings(pair, _document("1.9.0", parts), f"{owner}: {test}")
+
+
+def test_a_broken_pickle_is_built_again(cache: Path) -> None:
+    first = xsd11_validator(_entry("1.8.1"), Libxml2Validator)
+    assert isinstance(first, FastXsd11Validator)
+    first.full  # noqa: B018
+    [pickled] = (cache / "xsd10" / first.form.key).glob("*.pickle")
+    pickled.write_bytes(b"not a pickle")
+    second = xsd11_validator(_entry("1.8.1"), Libxml2Validator)
+    assert isinstance(second, FastXsd11Validator) and second.full.schema is not None
+    assert pickled.read_bytes() != b"not a pickle"  # written again
+
+
+@pytest.mark.parametrize("child", ["forked", "dies"])
+def test_the_fast_path_in_a_forked_child_marks_types_there_or_in_the_fallback(
+    pairs: dict[str, Pair], monkeypatch: pytest.MonkeyPatch, child: str
+) -> None:
+    import os
+
+    fast = pairs["1.9.0"].fast
+    data = _document("1.9.0", ALTERNATIVE_CASES["connection", "@type='virtual'"])
+    doc = load_bytes(data, "virtual.xodr")
+    assert doc.tree is not None
+    expected = _seen(doc, list(fast.hits(doc)))
+    assert expected  # the virtual connection's missing predecessor: only the marks tell
+    monkeypatch.setattr(background, "MIN_BYTES", 0)
+    parent = os.getpid()
+
+    def task() -> list[Hit]:
+        if child == "dies" and os.getpid() != parent:
+            os._exit(9)
+        return list(fast.hits(doc))
+
+    started = background.start_hits(task, doc.tree.getroot(), len(doc.data))
+    assert _seen(doc, started.result()) == expected
+
+
+def test_the_assertions_run_before_the_caller_joins_libxml2s_thread(
+    cache: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # the caller's share (the assertions) overlaps libxml2's thread, not follows it
+    validator = xsd11_validator(_entry("1.9.0"), Libxml2Validator)
+    assert isinstance(validator, FastXsd11Validator)
+    doc = load_bytes(_document("1.9.0", {}), "order.xodr")
+    order: list[str] = []
+    real = validator._assertion_stage
+
+    def assertions(*args: Any) -> Any:
+        order.append("assertions")
+        return real(*args)
+
+    monkeypatch.setattr(validator, "_assertion_stage", assertions)
+    first, finish, thread_safe = validator.stages(doc)
+    assert thread_safe
+
+    def joined() -> list[Hit]:
+        order.append("libxml2 joined")
+        return first()
+
+    assert finish(joined) == []
+    assert order == ["assertions", "libxml2 joined"]
