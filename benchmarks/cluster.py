@@ -11,7 +11,7 @@ docs/distributed.md, is
     wall(F files, N machines of c cores) = start + max(F * w / (N * c), T * s, F * k)
 
 with w the workers' CPU seconds per file, s the scheduler's per task, k the client's
-per file, T the tasks the run sends (its batches: ``workers.batch.schedule`` for N * c
+per file, T the tasks the run sends (its batches: ``runners.batch.schedule`` for N * c
 worker threads), and ``start`` the client's start-up; the three terms overlap, as the
 workers lint while the scheduler and client handle what came before.
 """

@@ -128,7 +128,7 @@ def dask_cluster(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Any]:
 def _release_dask_threads() -> None:
     """Dask keeps a thread for the rest of the process's life once it has used it (its
     offload executor): the tests after a Dask module get a process without threads again,
-    as a command-line run is, or their pools would not fork (``workers.batch``)."""
+    as a command-line run is, or their pools would not fork (``runners.batch``)."""
     import gc
     import threading
     import time

@@ -1,6 +1,6 @@
 """The layout keeps its promises: every module sits in an import contract,
-docs/architecture.md names what exists and everything that exists, and the old import
-paths of the flat layout still lead to the same objects."""
+docs/architecture.md names what exists and everything that exists, and importing
+xodrlint leaves the import machinery alone (no finder serves old module paths)."""
 
 from __future__ import annotations
 

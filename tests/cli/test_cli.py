@@ -715,13 +715,18 @@ def test_python_dash_m_runs_the_command_and_a_spawned_worker_does_not() -> None:
     runpy.run_module("xodrlint", run_name="__mp_main__")
 
 
-def test_the_entry_point_keeps_what_check_and_map_need_not_free(tmp_path: Path) -> None:
+def test_the_entry_point_keeps_what_check_map_and_qc_need_not_free(tmp_path: Path) -> None:
     # the command line exits without tearing down (cli.entry): the last map's tree, and
     # the linter holding it, go into the list the entry point hands each command, and
     # nowhere else (a run of the API or of a test frees them with the run)
     from xodrlint.engine.linter import Linter
 
-    for args in (["check", str(CLEAN)], ["map", str(CLEAN), "-o", str(tmp_path / "m.html")]):
+    commands = (
+        ["check", str(CLEAN)],
+        ["map", str(CLEAN), "-o", str(tmp_path / "m.html")],
+        ["qc", str(CLEAN), "-o", str(tmp_path / "r.xqar")],
+    )
+    for args in commands:
         kept: list[object] = []
         result = CliRunner().invoke(app, args, obj=kept, env=PLAIN_ENV)
         assert result.exit_code == 0, result.stderr
@@ -732,21 +737,31 @@ def test_the_entry_point_keeps_what_check_and_map_need_not_free(tmp_path: Path) 
 
 
 def test_main_hands_its_keep_alive_list_to_the_command(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the real path of `xodrlint check`: main builds the one command it runs
+    # (_invoked_alone) and calls it with the list as the context's object
     from xodrlint.cli import entry
+    from xodrlint.cli.check import run
+    from xodrlint.engine.linter import Linter
 
-    handed: list[object] = []
+    handed: list[list[object] | None] = []
+    kept_linter = run._kept_linter
 
-    def command(**extra: object) -> None:
-        handed.append(extra.get("obj"))
-        raise SystemExit(0)
+    def spy(registry: Any, options: Any, keep_alive: list[object] | None) -> Any:
+        linter = kept_linter(registry, options, keep_alive)
+        handed.append(keep_alive)
+        return linter
 
-    monkeypatch.setattr(entry, "app", command)
-    monkeypatch.setattr(entry, "_invoked_alone", lambda argv: None)
-    monkeypatch.setattr(sys, "argv", ["xodrlint", "check", str(CLEAN)])
+    monkeypatch.setattr(run, "_kept_linter", spy)
+    monkeypatch.setattr(sys, "argv", ["xodrlint", "check", "-q", str(CLEAN)])
     monkeypatch.setenv(entry.FAST_EXIT_ENV, "0")
-    with pytest.raises(SystemExit):
+    assert entry._invoked_alone(sys.argv[1:]) is not None
+    with pytest.raises(SystemExit) as done:
         entry.main()
-    assert handed == [[]]
+    assert done.value.code == 0
+    (keep_alive,) = handed
+    assert keep_alive is not None
+    (linter,) = keep_alive
+    assert isinstance(linter, Linter) and linter.last_document is not None
 
 
 def test_schemas_fetch_without_pip_says_how_to_fetch_by_hand(

@@ -381,3 +381,18 @@ def test_a_linked_map_reads_its_includes_from_the_link_s_folder(tmp_path: Path) 
         str(link),
         str(tmp_path / "elsewhere" / "parts" / "branch.xml"),
     ]
+
+
+@pytest.mark.parametrize(
+    "broken",
+    [b"<OpenDRIVE>\n<road", b"<OpenDRIVE>\r\r<road id='1'></OpenDRIVE>", b"\n\n<a></b>"],
+)
+def test_an_included_file_is_parsed_as_a_checked_file_is(tmp_path: Path, broken: bytes) -> None:
+    # one parse for every file read: the include's reason gives the line and the words
+    # XS001 gives when the same bytes are checked on their own (a CR-only file too)
+    main = _network(tmp_path)
+    (tmp_path / "parts" / "branch.xml").write_bytes(broken)
+    [alone] = _findings(tmp_path / "parts" / "branch.xml", "--select", "XS001")
+    [finding] = _findings(main, "--select", "XS007")
+    expected = f"is not well-formed XML at line {alone['line']}: {alone['message']}"
+    assert finding["message"] == f"include 'parts/branch.xml' {expected}"

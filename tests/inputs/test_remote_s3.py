@@ -96,7 +96,7 @@ def endpoint() -> Iterator[str]:
 def _no_thread_outlives_the_module() -> Iterator[None]:
     """Stop the thread fsspec runs s3fs's requests on (and forget the filesystems bound
     to it), so that the tests after these find a process without threads: one with
-    threads lints in fresh workers, never forked ones (workers/batch.py)."""
+    threads lints in fresh workers, never forked ones (runners/batch.py)."""
     yield
     import fsspec.asyn
 

@@ -153,7 +153,7 @@ assert schema is not None
 tree = etree.fromstring("".join(railway(8 * 1024 * 1024, 7)).encode()).getroottree()
 started = threading.Event()
 
-def validate(schema=schema, tree=tree):  # held by the thread, as workers.background does
+def validate(schema=schema, tree=tree):  # held by the thread, as concurrency.background does
     started.set()
     schema.validate(tree)
 

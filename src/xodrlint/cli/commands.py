@@ -503,6 +503,7 @@ def _named_options(entries: list[str]) -> dict[str, float | str]:
 
 @app.command("qc", cls=_Command)
 def qc_command(
+    ctx: typer.Context,
     input_file: Annotated[
         str | None,
         typer.Argument(metavar="FILE", help="The file to check, when no configuration names it."),
@@ -536,7 +537,7 @@ def qc_command(
     """Run as a checker bundle of the ASAM Quality Checker framework (writes XQAR)."""
     from xodrlint.cli.qc import run_qc
 
-    raise typer.Exit(run_qc(config, input_file, output, manifest))
+    raise typer.Exit(run_qc(config, input_file, output, manifest, _keep_alive(ctx)))
 
 
 @app.command("map", cls=_Command)

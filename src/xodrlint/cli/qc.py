@@ -124,11 +124,15 @@ def _level(checker: etree._Element, name: str, default: int, path: Path) -> int:
 
 
 def run_qc(
-    config: Path | None, input_file: str | None, output: str | None, manifest: str | None
+    config: Path | None,
+    input_file: str | None,
+    output: str | None,
+    manifest: str | None,
+    keep_alive: list[object] | None = None,
 ) -> int:
     """The ``qc`` command: 0 once the result file is written, whatever it holds (the
     framework reads a bundle's failure from its exit code); 2 for a configuration or an
-    input the bundle cannot run with."""
+    input the bundle cannot run with. ``keep_alive``: see ``CheckRequest.keep_alive``."""
     if manifest is not None:
         write_output(None if manifest == STDOUT else manifest, _write_manifest)
         return 0
@@ -149,6 +153,7 @@ def run_qc(
         exit_zero=True,
         select=tuple(run.levels) if run.levels else None,
         all_versions=run.all_versions,
+        keep_alive=keep_alive,
     )
     formatter = _Noted(XqarFormatter(params=run.params, levels=run.levels))
     code = run_check(request, formatter)

@@ -87,7 +87,7 @@ LintTask = Callable[[Task], FileReport]
 
 #: What an engine yields: each file's report with the index of its task, as files
 #: complete (not in input order). The forked pool (:func:`stream_tasks`) and the Dask
-#: engine (``workers/dask.py``) have this shape; :func:`in_order` puts one in order.
+#: engine (``runners/dask.py``) have this shape; :func:`in_order` puts one in order.
 ReportStream = Iterator[tuple[int, FileReport]]
 
 

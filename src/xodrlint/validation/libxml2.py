@@ -123,7 +123,7 @@ class Libxml2Validator:
         root = self._documents[0].getroot()
         fix_known_schema_bugs(root)
         #: libxml2 reads a whole document with the GIL released (see
-        #: ``workers.background``), unless the set has types whose validation writes
+        #: ``concurrency.background``), unless the set has types whose validation writes
         #: into the document
         self.thread_safe = not any(writes_while_validating(d.getroot()) for d in self._documents)
         self._lock = threading.Lock()

@@ -174,7 +174,7 @@ class DirectSchema:
             self._schema = library.xmlSchemaParse(parser)
             library.xmlSchemaFreeParserCtxt(parser)
         # freed with this object: an API caller's linters come and go with their options.
-        # Never at interpreter exit: a daemon validation thread (workers.background) may
+        # Never at interpreter exit: a daemon validation thread (concurrency.background) may
         # still be inside xmlSchemaValidateDoc with this schema, and freeing it under that
         # thread crashed the process (SIGSEGV, 7 of 10 runs on a 30 MB map interrupted);
         # the system takes the memory back at exit anyway. While a validation runs, the
