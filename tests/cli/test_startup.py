@@ -35,6 +35,8 @@ NOT_FOR_A_SMALL_JSON_RUN = (
     "xodrlint.cli.map",
     "xodrlint.concurrency.forkpool",
     "pathspec",
+    # what follows includes (a map that holds none)
+    "xodrlint.document.includes",
     # a Dask cluster as the engine (--scheduler, xodrlint.distributed)
     "dask",
     "distributed",

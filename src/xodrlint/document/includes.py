@@ -54,9 +54,7 @@ def has_includes(doc: Document) -> bool:
     """Whether ``doc`` holds an ``include`` to follow (a byte search first: most maps
     hold none, and walking a city map's tree costs more; a file in UTF-16 or UTF-32,
     where the word is no such run of bytes, is walked)."""
-    if doc.root is None:
-        return False
-    if b"include" not in doc.data and b"\0" not in doc.data[:4]:
+    if doc.root is None or not doc.may_include:
         return False
     return next(_includes_in(doc.root), None) is not None
 

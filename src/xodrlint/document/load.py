@@ -93,6 +93,13 @@ class Document:
     spliced: dict[etree._Element, IncludedPart] = field(default_factory=dict)
 
     @property
+    def may_include(self) -> bool:
+        """Whether the file may hold an ``include``: a byte search, as most maps hold
+        none and walking a city map's tree costs more (a file in UTF-16 or UTF-32, where
+        the word is no such run of bytes, may)."""
+        return b"include" in self.data or b"\0" in self.data[:4]
+
+    @property
     def root(self) -> etree._Element | None:
         return None if self.tree is None else self.tree.getroot()
 

@@ -22,7 +22,6 @@ from lxml import etree
 from xodrlint.concurrency.background import Pending
 from xodrlint.config.settings import COMMAND_LINE, DEFAULT, DEFAULT_RULE_TIMEOUT, Settings
 from xodrlint.config.sizes import DEFAULT_MAX_FILE_SIZE, too_large
-from xodrlint.document.includes import expand_includes, has_includes, unresolved
 from xodrlint.document.load import Document, Version, load_bytes
 from xodrlint.engine.guard import RuleClock, RuleTimeout, checked_hit
 from xodrlint.engine.suppressions import (
@@ -314,12 +313,11 @@ class Linter:
         # rules run here; the document rules report the stages' problems afterwards.
         pending = self._validators.start(doc) if not fatal and SCHEMA_RULE in self._codes else None
         validation = _Validation(pending, clock)
-        if not fatal and has_includes(doc):
-            # the schema judges each file as written, so it reads the tree before the
-            # included content joins it
-            validation.result()
-            problems[INCLUDE_RULE] = expand_includes(doc, location, self.options.max_file_size)
-            clock.lap("includes")
+        if not fatal and doc.may_include:
+            included = self._follow_includes(doc, location, validation)
+            if included is not None:
+                problems[INCLUDE_RULE] = included
+                clock.lap("includes")
         not_applied = self._not_applied(doc)
         network = build_network(None if fatal else doc.root)
         clock.lap("model")
@@ -334,7 +332,7 @@ class Linter:
         schema_note = None
         hidden = 0
         if check is not None:
-            problems[SCHEMA_RULE] = unresolved(check.hits, doc)
+            problems[SCHEMA_RULE] = _resolved_by_includes(check.hits, doc)
             if self.options.xsd_scope == "railroad":
                 problems[SCHEMA_RULE], hidden = _in_railroad_scope(problems[SCHEMA_RULE], network)
             schema_label, builtin = check.schema.describe(), check.schema.is_builtin
@@ -369,6 +367,20 @@ class Linter:
             rules_not_applied=tuple(sorted(not_applied)),
             schema_errors_hidden=hidden,
         )
+
+    def _follow_includes(
+        self, doc: Document, location: Path | None, validation: _Validation
+    ) -> list[Hit] | None:
+        """What following ``doc``'s includes found (XS007 hits); ``None`` when it holds
+        none. Only a map that may hold one loads what follows them (most hold none)."""
+        from xodrlint.document.includes import expand_includes, has_includes
+
+        if not has_includes(doc):
+            return None
+        # the schema judges each file as written, so it reads the tree before the
+        # included content joins it
+        validation.result()
+        return expand_includes(doc, location, self.options.max_file_size)
 
     def _not_applied(self, doc: Document) -> frozenset[str]:
         """The selected rules that do not judge ``doc``: those that apply only from a
@@ -505,6 +517,15 @@ class Linter:
         )
         defers_to = meta.defers_to if hit.defers_to is None else hit.defers_to
         return _Stamped(finding, defers_to, hit.element)
+
+
+def _resolved_by_includes(hits: Sequence[Hit], doc: Document) -> list[Hit]:
+    """The schema's hits, less the key references ``doc``'s included files resolve."""
+    if not doc.parts:
+        return list(hits)
+    from xodrlint.document.includes import unresolved
+
+    return unresolved(hits, doc)
 
 
 def _location(doc: Document, element: etree._Element, path: str) -> Location:
