@@ -5,5 +5,6 @@
 - :mod:`~xodrlint.document.xpaths`: XPaths a person can read, for findings;
 - :mod:`~xodrlint.document.positions`: where each element is, in its tree and in its
   source;
-- :mod:`~xodrlint.document.includes`: what ``<include>`` brings into a document.
+- :mod:`~xodrlint.document.includes`: what ``<include>`` brings into a document;
+- :mod:`~xodrlint.document.edits`: byte-exact edits of a source (what a fix changes).
 """

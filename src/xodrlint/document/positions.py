@@ -124,10 +124,13 @@ LIBXML2_LINE_CAP: Final = 65535
 # '<' cannot stand in an attribute value or in text of well-formed XML (the parser
 # refuses it), so comments, CDATA sections, processing instructions and the document
 # type declaration are all that hide one.
-_MARKUP: Final = re.compile(
-    rb"<!--.*?-->|<!\[CDATA\[.*?\]\]>|<\?.*?\?>|<!DOCTYPE[^\[>]*(?:\[.*?\]\s*)?>|<(?=[^/!?])",
-    re.DOTALL,
+#: A start tag's ``<`` alone, or whole markup in which a ``<`` starts no element: a
+#: comment, CDATA, a processing instruction, a document type declaration (the edits of
+#: fixes find start tags and comments by it too, in decoded text).
+MARKUP_PATTERN: Final = (
+    rb"<!--.*?-->|<!\[CDATA\[.*?\]\]>|<\?.*?\?>|<!DOCTYPE[^\[>]*(?:\[.*?\]\s*)?>|<(?=[^/!?])"
 )
+_MARKUP: Final = re.compile(MARKUP_PATTERN, re.DOTALL)
 #: The qualified name after a start tag's '<' (the parser has checked it already), and
 #: the bytes that may follow a name.
 _QNAME: Final = re.compile(rb"[^\s/>]+")
