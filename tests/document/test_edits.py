@@ -165,3 +165,110 @@ def test_any_value_round_trips_and_only_its_bytes_change(
     assert isinstance(parsed, etree._Element)
     assert parsed.find("road").get("id") == value  # type: ignore[union-attr]
     _only_inside(data, fixed, source.escaped(value, quote).encode())
+
+
+def test_markup_that_holds_a_start_tag_is_skipped() -> None:
+    # an entity's value, a CDATA section and a processing instruction may hold "<a" and
+    # "]>": none of them is a start tag, and the comments around the root are paired
+    data = (
+        b"<!-- before -->\n"
+        b"<!DOCTYPE OpenDRIVE [<!ENTITY e \"]><road id='9'><!--\"><!-- ]> -->]>\n"
+        b'<OpenDRIVE><?pi <road id="8"?><road id="1"><![CDATA[<road id="7">]]></road>'
+        b"<!-- inside --></OpenDRIVE>\n<!-- after -->\n"
+    )
+    source, root = _source(data)
+    road = root.find("road")
+    assert road is not None
+    fixed = source.apply([source.set_attribute(road, "id", "2")])
+    assert fixed == data.replace(b'<road id="1">', b'<road id="2">')
+    comments = [*root.itersiblings(etree.Comment, preceding=True), *root.iter(etree.Comment)]
+    comments += root.itersiblings(etree.Comment)
+    texts = [source.text[slice(*source.comment(c))] for c in comments]
+    assert texts == ["<!-- before -->", "<!-- inside -->", "<!-- after -->"]
+
+
+def test_the_positions_skip_such_markup_too() -> None:
+    from xodrlint.document.positions import SourcePositions
+
+    data = b"<!DOCTYPE a [<!ENTITY e \"]><b x='1'/>\">]>\n<a>\n  <b/>\n</a>\n"
+    root = parse_root(data)
+    assert isinstance(root, etree._Element)
+    positions = SourcePositions(data, root, "UTF-8")
+    assert positions.position_of(root) == (2, 1)
+    assert positions.position_of(root[0]) == (3, 3)
+
+
+def test_utf_32_and_a_prefixed_attribute() -> None:
+    text = '<a xmlns:p="urn:p" p:id="1" id="0"/>'
+    for codec in ("utf-32-le", "utf-32-be"):
+        data = text.encode(codec)
+        source, root = _source(data)
+        fixed = source.apply([source.set_attribute(root, "p:id", "2")])
+        assert fixed == text.replace('p:id="1"', 'p:id="2"').encode(codec)
+
+
+def test_an_encoding_python_and_libxml2_may_read_apart_gets_references() -> None:
+    # Shift_JIS's byte for a backslash is libxml2's yen sign: every character but plain
+    # ASCII is written as a reference, which reads back the same everywhere
+    data = '<?xml version="1.0" encoding="Shift_JIS"?><a x="日"/>'.encode("shift_jis")
+    source, root = _source(data)
+    fixed = source.apply([source.set_attribute(root, "x", "\\~本")])
+    assert fixed.endswith(b'<a x="&#92;&#126;&#26412;"/>')
+    parsed = parse_root(fixed)
+    assert isinstance(parsed, etree._Element) and parsed.get("x") == "\\~本"
+
+
+def test_only_the_xml_declaration_names_the_encoding() -> None:
+    # a processing instruction whose target starts with "xml" says nothing of it
+    data = '<?xml-stylesheet href="a.xsl" encoding="ISO-8859-1"?>\n<a x="é"/>'.encode()
+    source, root = _source(data)
+    fixed = source.apply([source.set_attribute(root, "x", "ü")])
+    assert fixed == data.replace("é".encode(), "ü".encode())
+
+
+def test_xml_blanks_only_separate_attributes() -> None:
+    # U+1680 is a blank to Python's \s, and a name character to XML
+    data = '<a x\u1680y="1" id="5"/>'.encode()
+    source, root = _source(data)
+    fixed = source.apply([source.set_attribute(root, "id", "6")])
+    assert fixed == data.replace(b'"5"', b'"6"')
+
+
+@pytest.mark.parametrize(
+    ("data", "reason"),
+    [
+        (b'<?xml version="1.0" encoding="WINDOWS-874"?><a/>', "not one Python writes"),
+        (b'<?xml version="1.0" encoding="ISO-2022-JP"?><a/>', "byte for byte"),
+    ],
+)
+def test_a_source_that_cannot_be_edited_byte_for_byte_is_refused(data: bytes, reason: str) -> None:
+    root = parse_root(data)
+    assert isinstance(root, etree._Element)
+    with pytest.raises(EditError, match=reason):
+        EditableSource(data, root)
+
+
+@pytest.mark.parametrize(
+    ("name", "value"),
+    [
+        ("x", "\x00"),
+        ("x", "a\x1fb"),
+        ("x", "\ud800"),
+        ("x", "\uffff"),
+        ("{urn:p}id", "1"),
+        ("bad name", "1"),
+        ("Ł", "1"),
+    ],
+)
+def test_what_the_file_could_not_hold_is_refused(name: str, value: str) -> None:
+    data = b'<?xml version="1.0" encoding="ISO-8859-1"?><a x="1"/>'
+    source, root = _source(data)
+    with pytest.raises(EditError):
+        source.set_attribute(root, name, value)
+
+
+def test_an_edit_the_encoding_cannot_write_is_an_edit_error() -> None:
+    data = b'<?xml version="1.0" encoding="ISO-8859-1"?><a x="1"/>'
+    source, _ = _source(data)
+    with pytest.raises(EditError, match="cannot write"):
+        source.apply([Edit(len(source.text), len(source.text), "<!-- \u0141 -->")])

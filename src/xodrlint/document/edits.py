@@ -9,7 +9,10 @@ ends, attribute order and quotes, character references, comments, blanks).
 encodes back to exactly the same bytes (a byte order mark stays a character of the
 text), and finds each element's start tag and each comment in that text the way the
 positions of findings do: the k-th start tag of the text is the k-th element of the
-tree. A source whose text would not encode back to its bytes is not editable.
+tree. A source whose text would not encode back to its bytes is not editable, nor one in an
+encoding whose bytes depend on what came before (ISO-2022, UTF-7: re-encoding would
+change bytes outside the edits). Build it from the bytes and the tree as parsed, before
+any include joins the tree (its elements are no start tags of this source).
 """
 
 from __future__ import annotations
@@ -49,9 +52,37 @@ class EditError(ValueError):
 #: A start tag's ``<``, or markup in which a ``<`` starts no element (as the positions
 #: scan reads the bytes); a comment is matched whole.
 _MARKUP: Final = re.compile(MARKUP_PATTERN.decode("ascii"), re.DOTALL)
-#: One attribute of a start tag: its name, blanks, ``=``, blanks and its quoted value.
-_ATTRIBUTE: Final = re.compile(r"\s*([^\s=/>]+)\s*=\s*(?:\"([^\"]*)\"|'([^']*)')")
-_TAG_NAME: Final = re.compile(r"<([^\s/>]+)")
+#: One attribute of a start tag: its name, blanks, ``=``, blanks and its quoted value
+#: (XML's blanks are these four; Python's ``\s`` takes more, some of them name characters).
+_ATTRIBUTE: Final = re.compile(
+    r"[ \t\r\n]*([^ \t\r\n=/>]+)[ \t\r\n]*=[ \t\r\n]*(?:\"([^\"]*)\"|'([^']*)')"
+)
+_TAG_NAME: Final = re.compile(r"<([^ \t\r\n/>]+)")
+#: An attribute name as a source spells it (a prefix is written as it is, never lxml's
+#: ``{namespace}`` form).
+_NAME: Final = re.compile(r"[^\W\d][\w.\-]*(?::[^\W\d][\w.\-]*)?")
+#: Characters XML 1.0 admits nowhere, not even as a reference.
+_NOT_XML: Final = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
+#: Codecs whose bytes Python and libxml2 (iconv) map to the same characters, in both
+#: directions: a value's characters are written as themselves in these, as character
+#: references in any other (Shift_JIS's backslash is libxml2's yen sign).
+_AGREEING: Final = frozenset(
+    {
+        "utf-8",
+        "utf-16-le",
+        "utf-16-be",
+        "utf-32-le",
+        "utf-32-be",
+        "ascii",
+        "iso8859-1",
+        "iso8859-15",
+        "cp1251",
+        "cp1252",
+        "koi8-r",
+    }
+)
+#: Codecs whose bytes for a character depend on those before it.
+_STATEFUL: Final = ("iso2022", "utf-7", "hz")
 _BOMS: Final = (
     (codecs.BOM_UTF32_LE, "utf-32-le"),
     (codecs.BOM_UTF32_BE, "utf-32-be"),
@@ -59,7 +90,6 @@ _BOMS: Final = (
     (codecs.BOM_UTF16_LE, "utf-16-le"),
     (codecs.BOM_UTF16_BE, "utf-16-be"),
 )
-_DECLARED: Final = re.compile(rb"""<\?xml[^>]*?encoding\s*=\s*["']([A-Za-z0-9._\-]+)["']""")
 
 
 class EditableSource:
@@ -67,7 +97,9 @@ class EditableSource:
     of its elements' start tags and of its comments."""
 
     def __init__(self, data: bytes, root: etree._Element) -> None:
-        self.codec = _codec_of(data)
+        self.codec = _codec_of(data, root.getroottree().docinfo.encoding)
+        if any(self.codec.startswith(stateful) for stateful in _STATEFUL):
+            raise EditError(f"a file in {self.codec} cannot be edited byte for byte")
         try:
             self.text = data.decode(self.codec)
             exact = self.text.encode(self.codec) == data
@@ -133,9 +165,12 @@ class EditableSource:
         return start, end + 3
 
     def set_attribute(self, element: etree._Element, name: str, value: str) -> Edit:
-        """The edit that sets ``element``'s attribute ``name`` to ``value``: its value
-        replaced between its quotes, or the attribute added at the end of the start tag,
-        written in double quotes, when the tag has none."""
+        """The edit that sets ``element``'s attribute ``name`` (as the source spells it,
+        with its prefix) to ``value``: its value replaced between its quotes, or the
+        attribute added at the end of the start tag, written in double quotes, when the
+        tag has none."""
+        if _NAME.fullmatch(name) is None or not self._holds(name):
+            raise EditError(f"'{name}' is no attribute name this file can hold")
         span = self.attribute(element, name)
         if span is not None:
             return Edit(span.start, span.end, self.escaped(value, span.quote))
@@ -150,11 +185,25 @@ class EditableSource:
     def escaped(self, value: str, quote: str) -> str:
         """``value`` as an attribute's value in ``quote``: markup characters, the quote
         and the blanks attribute-value normalisation would change as references, and any
-        character the file's encoding cannot hold as a character reference."""
+        character the file's encoding cannot hold (in an encoding Python and libxml2 may
+        read differently, every character but ASCII's letters, digits and plain
+        punctuation) as a character reference. A character XML admits nowhere is refused."""
+        if _NOT_XML.search(value):
+            raise EditError("the value holds a character XML does not admit")
         text = value.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
         text = text.replace(quote, "&quot;" if quote == '"' else "&apos;")
         text = text.replace("\t", "&#9;").replace("\n", "&#10;").replace("\r", "&#13;")
-        return text.encode(self.codec, "xmlcharrefreplace").decode(self.codec)
+        if self.codec in _AGREEING:
+            return text.encode(self.codec, "xmlcharrefreplace").decode(self.codec)
+        text = text.replace("\\", "&#92;").replace("~", "&#126;")
+        return text.encode("ascii", "xmlcharrefreplace").decode("ascii")
+
+    def _holds(self, text: str) -> bool:
+        try:
+            text.encode(self.codec)
+        except UnicodeEncodeError:
+            return False
+        return True
 
     def apply(self, edits: Iterable[Edit]) -> bytes:
         """The source with ``edits`` made, in the file's encoding; the edits must not
@@ -168,13 +217,17 @@ class EditableSource:
             pieces += [self.text[at : edit.start], edit.content]
             at = edit.end
         pieces.append(self.text[at:])
-        return "".join(pieces).encode(self.codec)
+        try:
+            return "".join(pieces).encode(self.codec)
+        except UnicodeEncodeError as error:
+            raise EditError(f"an edit holds what {self.codec} cannot write: {error}") from error
 
 
-def _codec_of(data: bytes) -> str:
+def _codec_of(data: bytes, parsed: str | None) -> str:
     """The codec that reads ``data`` back to its very bytes: a byte order mark's, read as
-    a character of the text; else the declared encoding; else UTF-8 (or UTF-16 without a
-    mark, which the zero bytes of its first characters show)."""
+    a character of the text; else the encoding the parser read it in (``parsed``, its
+    document information's); else UTF-8 (or UTF-16 or UTF-32 without a mark, which the
+    zero bytes of its first characters show)."""
     for mark, codec in _BOMS:
         if data.startswith(mark):
             return codec
@@ -183,13 +236,12 @@ def _codec_of(data: bytes) -> str:
         return "utf-32-be" if head[:1] == b"\x00" else "utf-32-le"
     if len(head) > 1 and b"\x00" in head[:2]:
         return "utf-16-be" if head[:1] == b"\x00" else "utf-16-le"
-    declared = _DECLARED.match(data)
-    if declared is not None:
-        try:
-            return codecs.lookup(declared[1].decode("ascii")).name
-        except LookupError:
-            pass
-    return "utf-8"
+    if not parsed:
+        return "utf-8"
+    try:
+        return codecs.lookup(parsed).name
+    except LookupError as error:
+        raise EditError(f"the file's encoding {parsed} is not one Python writes") from error
 
 
 def _tag_end(text: str, position: int) -> int:

@@ -128,7 +128,12 @@ LIBXML2_LINE_CAP: Final = 65535
 #: comment, CDATA, a processing instruction, a document type declaration (the edits of
 #: fixes find start tags and comments by it too, in decoded text).
 MARKUP_PATTERN: Final = (
-    rb"<!--.*?-->|<!\[CDATA\[.*?\]\]>|<\?.*?\?>|<!DOCTYPE[^\[>]*(?:\[.*?\]\s*)?>|<(?=[^/!?])"
+    rb"<!--.*?-->|<!\[CDATA\[.*?\]\]>|<\?.*?\?>"
+    # a document type declaration, whose quoted strings, comments and processing
+    # instructions may hold "]>" or "<a" (an entity's value)
+    rb"|<!DOCTYPE(?:[^\[>\"']|\"[^\"]*\"|'[^']*')*"
+    rb"(?:\[(?:[^\]\"'<]|\"[^\"]*\"|'[^']*'|<!--.*?-->|<\?.*?\?>|<(?!!--|\?))*\][ \t\r\n]*)?>"
+    rb"|<(?=[^/!?])"
 )
 _MARKUP: Final = re.compile(MARKUP_PATTERN, re.DOTALL)
 #: The qualified name after a start tag's '<' (the parser has checked it already), and
