@@ -17,7 +17,7 @@ put on the road's own element, found by position.
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterator, Sequence
 from typing import TYPE_CHECKING, Final, NamedTuple
 
 from xodrlint.rules import Junction, Lane, LaneLink, LaneSection, RailNetwork, Road, RoadLink
@@ -182,12 +182,9 @@ def lane_ids(section: LaneSection) -> str:
 def judged_links(network: RailNetwork) -> list[TrackLink]:
     found: list[TrackLink] = []
     repeated = _repeated_road_ids(network)
-    road_by_id = network.road_by_id
     for road in network.rail_roads:
         for link in road.links:
-            judged = None if repeated else _answered(road, link, road_by_id)
-            if judged is None:
-                judged = _judge(network, road, link, repeated)
+            judged = _judge(network, road, link, repeated)
             if judged is not None:
                 found.append(judged)
     if all(judged.fault != NOT_ANSWERED for judged in found):
@@ -195,28 +192,25 @@ def judged_links(network: RailNetwork) -> list[TrackLink]:
     return list(_pairs_reported_once(found))
 
 
-def _answered(road: Road, link: RoadLink, road_by_id: Mapping[str, Road]) -> TrackLink | None:
-    """The judgement of a link that joins two tracks and is named back (nearly every
-    link of a railway, so judged here first without words); ``None`` for any other link,
-    which :func:`_judge` judges."""
-    contact = link.contact_point
-    if link.element_type != "road" or contact not in LINK_AT:
-        return None
-    target = road_by_id.get(link.element_id)  # type: ignore[arg-type]
-    if target is None or not target.has_rail_lane or road.id is None:
-        return None
-    kind, end = LINK_AT[contact], END_OF[link.kind]
-    for answer in target.links:
-        if answer.kind == kind:
-            back = answer.contact_point
-            if (
-                answer.element_type == "road"
-                and answer.element_id == road.id
-                and (back == end or back not in LINK_AT)
-            ):
-                return TrackLink(road, link, end, target, None, False, "")
-            return None
+def _link_at(road: Road, end: str) -> RoadLink | None:
+    """The first of ``road``'s links at ``end`` (the one a joint there is judged by)."""
+    kind = LINK_AT[end]
+    for link in road.links:
+        if link.kind == kind:
+            return link
     return None
+
+
+def _names_back(answer: RoadLink, road: Road, end: str) -> bool:
+    """Whether ``answer`` names ``road`` at ``end`` (or at no end that can be read: a
+    missing contact point is TR005's, on that link)."""
+    back = answer.contact_point
+    return (
+        answer.element_type == "road"
+        and answer.element_id is not None
+        and answer.element_id == road.id
+        and (back == end or back not in LINK_AT)
+    )
 
 
 def _pairs_reported_once(found: list[TrackLink]) -> Iterator[TrackLink]:
@@ -316,21 +310,15 @@ def _unanswered(
 ) -> str | None:
     """Why ``target``'s link at ``target_end`` does not name ``road`` at ``end`` back;
     ``None`` when it does (a missing contact point there is TR005's, on that link)."""
-    kind = LINK_AT[target_end]
-    answer = None
-    for link in target.links:
-        if link.kind == kind:
-            answer = link
-            break
+    answer = _link_at(target, target_end)
     if answer is not None and answer.element_type == "road" and answer.element_id is not None:
-        # nearly every link of a railway: first, and no words made for it
-        if answer.element_id == road.id:
-            if answer.contact_point in LINK_AT and answer.contact_point != end:
-                return (
-                    f"{_answer(target, target_end)} names the {answer.contact_point} of road "
-                    f"'{road.id}', not its {end}"
-                )
+        if _names_back(answer, road, end):
             return None
+        if answer.element_id == road.id:
+            return (
+                f"{_answer(target, target_end)} names the {answer.contact_point} of road "
+                f"'{road.id}', not its {end}"
+            )
         return f"{_answer(target, target_end)} names road '{answer.element_id}'"
     if answer is None or answer.element_id is None:
         return f"{_answer(target, target_end)} names nothing"
