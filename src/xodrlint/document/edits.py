@@ -24,7 +24,7 @@ from typing import Final, NamedTuple
 
 from lxml import etree
 
-from xodrlint.document.positions import MARKUP_PATTERN
+from xodrlint.document.positions import MARKUP_PATTERN, document_comments
 
 
 class Edit(NamedTuple):
@@ -115,11 +115,7 @@ class EditableSource:
             elif self.text.startswith("<!--", found.start()):
                 comments.append(found.start())
         elements = list(root.iter(etree.Element))
-        every_comment = [
-            *reversed(list(root.itersiblings(etree.Comment, preceding=True))),
-            *root.iter(etree.Comment),
-            *root.itersiblings(etree.Comment),
-        ]
+        every_comment = document_comments(root)
         if len(tags) != len(elements) or len(comments) != len(every_comment):
             raise EditError("the source's markup does not match its tree")
         self._tags = dict(zip(elements, tags, strict=True))

@@ -149,6 +149,16 @@ _CONTINUATION: Final = bytes(range(0x80, 0xC0))
 _STATEFUL: Final = frozenset({"utf-7", "hz"})
 
 
+def document_comments(root: etree._Element) -> list[etree._Element]:
+    """Every comment of ``root``'s document in source order: before the root, in it and
+    after it (the k-th is the k-th ``<!--`` a scan of the source finds)."""
+    return [
+        *reversed(list(root.itersiblings(etree.Comment, preceding=True))),
+        *root.iter(etree.Comment),
+        *root.itersiblings(etree.Comment),
+    ]
+
+
 def parser_line(node: etree._Element) -> int:
     """libxml2's line for ``node`` (exact below 65,535; where the start tag ends)."""
     line: object = node.sourceline
@@ -237,13 +247,8 @@ class SourcePositions:
             found = [
                 m.start() for m in _MARKUP.finditer(text) if text.startswith(b"<!--", m.start())
             ]
-            comments = [
-                *reversed(list(root.itersiblings(etree.Comment, preceding=True))),
-                *root.iter(etree.Comment),
-                *root.itersiblings(etree.Comment),
-            ]
             try:
-                self._comments = dict(zip(comments, found, strict=True))
+                self._comments = dict(zip(document_comments(root), found, strict=True))
             except ValueError:
                 self._comments = {}
         return self._comments.get(node)

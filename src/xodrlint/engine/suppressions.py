@@ -17,6 +17,7 @@ from typing import Final
 from lxml import etree
 
 from xodrlint.document.load import Document
+from xodrlint.document.positions import document_comments
 from xodrlint.findings import Hit
 
 DIRECTIVE: Final = re.compile(
@@ -72,13 +73,8 @@ def read_directives(
     ``ignore`` comment then applies to the next element of its own file only."""
     if root is None:
         return []
-    comments = [
-        *reversed(list(root.itersiblings(etree.Comment, preceding=True))),
-        *root.iter(etree.Comment),
-        *root.itersiblings(etree.Comment),
-    ]
     found = []
-    for comment in comments:
+    for comment in document_comments(root):
         match = DIRECTIVE.match(comment.text or "")
         if match is None:
             continue
