@@ -10,6 +10,7 @@ from enum import StrEnum
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final, NamedTuple
 
+from xodrlint.fixes import FindingFix, Fix
 from xodrlint.inputs.remote import is_url
 
 if TYPE_CHECKING:
@@ -63,6 +64,9 @@ class Hit(NamedTuple):
     defers_to: tuple[str, ...] | None = None
     """When set, replaces the rule's :attr:`RuleMeta.defers_to` for this hit (the schema
     rule hands a keyref error to SW004 but keeps every other error on the element)."""
+    fix: Fix | None = None
+    """How to mend the defect, where the right edit is knowable from the file (see
+    :mod:`xodrlint.fixes`). Rule API 1.3."""
 
 
 #: Hit kinds of schema errors about a missing or misplaced child element (libxml2 words a
@@ -98,6 +102,9 @@ class Finding(NamedTuple):
     message: str
     xpath: str
     related: tuple[Location, ...] = ()
+    fix: FindingFix | None = None
+    """The fix the rule proposes; its edits are placed only where the run asked for
+    them (``--fix``, ``--diff``, JSON and SARIF reports, the editor)."""
 
     @property
     def sort_key(self) -> tuple[str, int, int, str, str]:
@@ -116,6 +123,7 @@ class Finding(NamedTuple):
             "message": self.message,
             "xpath": self.xpath,
             "related": [location.as_dict() for location in self.related],
+            "fix": None if self.fix is None else self.fix.as_dict(),
         }
 
 
@@ -395,6 +403,14 @@ class FileReport(NamedTuple):
     schema_errors_hidden: int = 0
     """Schema errors outside the railroad content that ``xsd-scope = "railroad"`` left
     out of :attr:`findings` (the run's notes count them)."""
+    fixed: int = 0
+    """How many findings ``--fix`` mended in the file (written, or shown by ``--diff``);
+    :attr:`findings` are what the fixed file still has."""
+    diff: str = ""
+    """With ``--diff``: the unified diff of what ``--fix`` would change."""
+    fixed_source: bytes | None = None
+    """With ``--fix`` on standard input: the fixed document, which goes to standard
+    output."""
 
 
 class RunResult(NamedTuple):

@@ -2,10 +2,11 @@
 every field, property and method of the types it exports, stays while ``API_VERSION``'s
 major number does.
 
-The surface below is the record of rule API 1.2 (1.1 added ``rule(..., since=)``, the
+The surface below is the record of rule API 1.3 (1.1 added ``rule(..., since=)``, the
 model's junctions and lane links, and ``Road.profiles``; 1.2 the lane profiles,
 ``section_ranges``, ``CHILD_KINDS`` and :mod:`xodrlint.rules.geometry`, so that the
-built-in packs use the rule API alone; unreleased, so still growing). Removing or renaming anything in it
+built-in packs use the rule API alone; 1.3 fixes: ``Hit.fix``, ``Fix``,
+``Applicability`` and the edit helpers; unreleased, so still growing). Removing or renaming anything in it
 breaks packs: raise the major number (and say so in the changelog). Adding something is
 compatible: record it here and raise the minor number, so that a pack using it can
 declare the version it needs.
@@ -25,11 +26,12 @@ import pytest
 import xodrlint.rules
 from xodrlint.rules import API_VERSION
 
-RECORDED_VERSION = (1, 2)
+RECORDED_VERSION = (1, 3)
 #: Each name with what a pack may use of it: a type's attributes, a function's
 #: parameters, ``None`` for a constant or an alias.
 RECORDED: dict[str, list[str] | None] = {
     "API_VERSION": None,
+    "Applicability": ["SAFE", "UNSAFE"],
     "CHILD_KINDS": None,
     "NON_TRAFFIC_LANE_TYPES": None,
     "RAIL_LANE_TYPES": None,
@@ -40,7 +42,8 @@ RECORDED: dict[str, list[str] | None] = {
     ],
     "Cubic": ["a", "at", "b", "c", "d", "element", "start"],
     "Extremes": ["high", "low", "s_high", "s_low"],
-    "Hit": ["column", "defers_to", "element", "kind", "line", "message", "related"],
+    "Fix": ["applicability", "edits", "message"],
+    "Hit": ["column", "defers_to", "element", "fix", "kind", "line", "message", "related"],
     "Junction": ["connections", "element", "id"],
     "JunctionLaneLink": ["element", "from_id", "to_id"],
     "Lane": [
@@ -78,15 +81,19 @@ RECORDED: dict[str, list[str] | None] = {
     "centre_terms": ["road", "section", "section_start", "lane"],
     "collect": ["package"],
     "extremes": ["terms", "start", "end"],
+    "insert_element": ["anchor", "tag", "attributes", "where"],
     "integer": ["element", "attribute"],
     "lane_width": ["lane", "section_start"],
     "non_finite": ["element", "attribute"],
     "number": ["element", "attribute"],
     "numbers": ["element", "attributes"],
+    "remove_comment": ["comment"],
+    "replace_comment": ["comment", "text"],
     "rule": [
         "code", "name", "uid", "severity", "aliases", "options", "defers_to", "opt_in", "since",
     ],
     "section_ranges": ["sections", "length"],
+    "set_attribute": ["element", "name", "value"],
 }  # fmt: skip
 #: The same record for :mod:`xodrlint.rules.geometry` (rule API 1.2).
 RECORDED_GEOMETRY: dict[str, list[str] | None] = {

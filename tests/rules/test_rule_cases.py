@@ -14,9 +14,9 @@ import pytest
 from tests.conftest import REPO
 from xodrlint.testing import cases_in
 from xodrlint.testing.cases import folder_selection
-from xodrlint.testing.suite import test_case, test_every_rule_has_cases
+from xodrlint.testing.suite import test_case, test_case_fix, test_every_rule_has_cases
 
-__all__ = ["test_case", "test_every_rule_has_cases"]
+__all__ = ["test_case", "test_case_fix", "test_every_rule_has_cases"]
 
 FAMILIES_DIR = REPO / "rules" / "families"
 FAMILY_FOLDERS = sorted(f for f in FAMILIES_DIR.iterdir() if f.is_dir())

@@ -111,6 +111,7 @@ _CONFIG = "Configuration"
 _SELECTION = "Rule selection"
 _OUTPUT = "Output"
 _RUN = "Run"
+_FIXES = "Fixes"
 _RULE_OPTIONS = "Rule options"
 
 
@@ -364,6 +365,50 @@ def check(
             "--xsd-scope", metavar="SCOPE", help=_XSD_SCOPE_HELP, rich_help_panel=_SELECTION
         ),
     ] = None,
+    fix: Annotated[
+        bool | None,
+        typer.Option(
+            "--fix/--no-fix",
+            help="Apply the safe fixes and write each changed file back; standard input's "
+            "fixed document goes to standard output.",
+            rich_help_panel=_FIXES,
+            show_default=False,
+        ),
+    ] = None,
+    unsafe_fixes: Annotated[
+        bool | None,
+        typer.Option(
+            "--unsafe-fixes/--no-unsafe-fixes",
+            help="Make the unsafe fixes too (they change what the network means).",
+            rich_help_panel=_FIXES,
+            show_default=False,
+        ),
+    ] = None,
+    diff: Annotated[
+        bool,
+        typer.Option(
+            "--diff",
+            help="Print a unified diff of what --fix would change and write nothing; "
+            "exit 1 when there is anything to fix.",
+            rich_help_panel=_FIXES,
+        ),
+    ] = False,
+    fixable: Annotated[
+        list[str] | None,
+        typer.Option(
+            metavar="CODES",
+            help="Only these rules' fixes count (codes, prefixes, names; comma-separated).",
+            rich_help_panel=_FIXES,
+        ),
+    ] = None,
+    unfixable: Annotated[
+        list[str] | None,
+        typer.Option(
+            metavar="CODES",
+            help="These rules' fixes never count (codes, prefixes, names; comma-separated).",
+            rich_help_panel=_FIXES,
+        ),
+    ] = None,
     show_suppressed: Annotated[
         bool,
         typer.Option(
@@ -462,6 +507,11 @@ def check(
             all_versions=all_versions,
             xsd_scope=str(xsd_scope) if xsd_scope is not None else None,
             show_suppressed=show_suppressed,
+            fix=fix,
+            unsafe_fixes=unsafe_fixes,
+            diff=diff,
+            fixable=_split(fixable) or None,
+            unfixable=_split(unfixable) or None,
             sarif_max_results=sarif_max_results,
             statistics=statistics,
             reports=tuple(report or ()),

@@ -115,11 +115,26 @@ class Settings:
     """Apply every rule to every OpenDRIVE version, also those that apply only from a
     later version than a file declares (RL001, RL002 from 1.7)."""
     max_file_size: int = DEFAULT_MAX_FILE_SIZE
+    fix: bool = False
+    """Apply the fixes and write the files back (``--fix``, ``fix = true``)."""
+    diff: bool = False
+    """Show what ``--fix`` would change, write nothing (``--diff``: the command line's)."""
+    unsafe_fixes: bool = False
+    """Make the unsafe fixes too (``--unsafe-fixes``)."""
+    fixable: tuple[str, ...] = ("ALL",)
+    """The rules whose fixes count (codes, prefixes, names, UIDs, as ``select``)."""
+    unfixable: tuple[str, ...] = ()
+    """The rules whose fixes never count, where named more closely than in ``fixable``."""
     rule_timeout: float = DEFAULT_RULE_TIMEOUT
     """Seconds a rule may run on one file; 0: no limit."""
     base: Path = field(default_factory=Path.cwd)
     config_file: Path | None = None
     sources: Mapping[str, str] = field(default_factory=dict)
+
+    @property
+    def fix_mode(self) -> str:
+        """``diff``, ``apply`` (``--fix``) or empty: what a check does with fixes."""
+        return "diff" if self.diff else "apply" if self.fix else ""
 
     @property
     def selected(self) -> tuple[str, ...]:
@@ -176,6 +191,10 @@ class Settings:
             ("xsd-scope", self.xsd_scope, self.source_of("xsd-scope")),
             ("max-file-size", format_size(self.max_file_size), self.source_of("max-file-size")),
             ("rule-timeout", self.rule_timeout, self.source_of("rule-timeout")),
+            ("fix", self.fix, self.source_of("fix")),
+            ("unsafe-fixes", self.unsafe_fixes, self.source_of("unsafe-fixes")),
+            ("fixable", list(self.fixable), self.source_of("fixable")),
+            ("unfixable", list(self.unfixable), self.source_of("unfixable")),
         ]
         values = {**self.option_defaults, **self.rule_options}
         rows += [(name, value, self.source_of(name)) for name, value in sorted(values.items())]
@@ -281,6 +300,10 @@ _READERS: Final[Mapping[str, _Reader]] = {
     "xsd-scope": _xsd_scope,
     "max-file-size": parse_size,
     "rule-timeout": seconds,
+    "fix": _boolean,
+    "unsafe-fixes": _boolean,
+    "fixable": _strings,
+    "unfixable": _strings,
 }
 #: The keys of the settings themselves: a rule option (a pack's too) may take none of
 #: these names, which share the config table and the command line with it.
@@ -331,6 +354,11 @@ def settings_from(
         xsd_scope=str(values.get("xsd-scope", "all")),
         max_file_size=int(_get(values, "max-file-size", DEFAULT_MAX_FILE_SIZE)),
         rule_timeout=float(_get(values, "rule-timeout", DEFAULT_RULE_TIMEOUT)),
+        fix=bool(values.get("fix", False)),
+        diff=bool(values.get("diff", False)),
+        unsafe_fixes=bool(values.get("unsafe-fixes", False)),
+        fixable=tuple(_get(values, "fixable", ("ALL",))),
+        unfixable=tuple(_get(values, "unfixable", ())),
         base=base,
         config_file=config.path if config is not None else None,
         sources=sources,

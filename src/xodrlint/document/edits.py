@@ -17,14 +17,17 @@ any include joins the tree (its elements are no start tags of this source).
 
 from __future__ import annotations
 
+import bisect
 import codecs
+import itertools
 import re
-from collections.abc import Iterable
+from collections.abc import Collection, Iterable, Sequence
 from typing import Final, NamedTuple
 
 from lxml import etree
 
 from xodrlint.document.positions import MARKUP_PATTERN, document_comments
+from xodrlint.fixes import Fix, InsertElement, ReplaceComment, SetAttribute, TextEdit
 
 
 class Edit(NamedTuple):
@@ -58,6 +61,13 @@ _ATTRIBUTE: Final = re.compile(
     r"[ \t\r\n]*([^ \t\r\n=/>]+)[ \t\r\n]*=[ \t\r\n]*(?:\"([^\"]*)\"|'([^']*)')"
 )
 _TAG_NAME: Final = re.compile(r"<([^ \t\r\n/>]+)")
+#: Any markup after a start tag, read whole: comments, CDATA sections, processing
+#: instructions, end tags and start tags (a ``>`` in a quoted value ends none).
+_NODE: Final = re.compile(
+    r"<!--.*?-->|<!\[CDATA\[.*?\]\]>|<\?.*?\?>|</[^>]*>|<(?:[^>\"']|\"[^\"]*\"|'[^']*')*>",
+    re.DOTALL,
+)
+_BREAK: Final = re.compile(r"\r\n|\r|\n")
 #: An attribute name as a source spells it (a prefix is written as it is, never lxml's
 #: ``{namespace}`` form).
 _NAME: Final = re.compile(r"[^\W\d][\w.\-]*(?::[^\W\d][\w.\-]*)?")
@@ -96,7 +106,14 @@ class EditableSource:
     """A document's source as text that encodes back to its very bytes, with the places
     of its elements' start tags and of its comments."""
 
-    def __init__(self, data: bytes, root: etree._Element) -> None:
+    def __init__(
+        self,
+        data: bytes,
+        root: etree._Element,
+        foreign: Collection[etree._Element] = (),
+    ) -> None:
+        """``foreign`` are the nodes includes brought into the tree (each with what is
+        inside it): none of them stands in this source."""
         self.codec = _codec_of(data, root.getroottree().docinfo.encoding)
         if any(self.codec.startswith(stateful) for stateful in _STATEFUL):
             raise EditError(f"a file in {self.codec} cannot be edited byte for byte")
@@ -116,9 +133,14 @@ class EditableSource:
                 comments.append(found.start())
         elements = list(root.iter(etree.Element))
         every_comment = document_comments(root)
+        if foreign:
+            brought = {node for top in foreign for node in top.iter()}
+            elements = [node for node in elements if node not in brought]
+            every_comment = [node for node in every_comment if node not in brought]
         if len(tags) != len(elements) or len(comments) != len(every_comment):
             raise EditError("the source's markup does not match its tree")
         self._tags = dict(zip(elements, tags, strict=True))
+        self._line_starts: list[int] | None = None
         self._comments = dict(zip(every_comment, comments, strict=True))
 
     def start_tag(self, element: etree._Element) -> tuple[int, int]:
@@ -201,6 +223,118 @@ class EditableSource:
             return False
         return True
 
+    def element_end(self, element: etree._Element) -> int:
+        """After the end of ``element``: its ``/>``, or the ``>`` of its end tag."""
+        _, end = self.start_tag(element)
+        if self.text[end - 2 : end] == "/>":
+            return end
+        depth = 1
+        for found in _NODE.finditer(self.text, end):
+            token = found.group()
+            if token.startswith("</"):
+                depth -= 1
+                if depth == 0:
+                    return found.end()
+            elif token[1] not in "!?" and not token.endswith("/>"):
+                depth += 1
+        raise EditError(f"'{etree.QName(element).localname}' has no end tag")
+
+    def comment_edit(self, comment: etree._Element, text: str | None) -> Edit:
+        """The edit that gives ``comment`` the text ``text`` (as lxml reads a comment's
+        text: every line break a newline), changing only the characters that differ; or,
+        with ``None``, removes it, with its line when it stood alone there."""
+        start, end = self.comment(comment)
+        if text is None:
+            line_start = _line_start(self.text, start)
+            line_end = _line_end(self.text, end)
+            blank = " \t"
+            if not self.text[line_start:start].strip(blank) and not self.text[end:line_end].strip(
+                blank
+            ):
+                return Edit(line_start, _after_break(self.text, line_end), "")
+            return Edit(start, end, "")
+        if "--" in text or text.endswith("-") or _NOT_XML.search(text) or not self._holds(text):
+            raise EditError("the text cannot stand in a comment of this file")
+        raw = self.text[start + 4 : end - 3]
+        old = _normalised(raw)
+        prefix = _common_prefix(old, text)
+        suffix = _common_prefix(old[prefix:][::-1], text[prefix:][::-1])
+        middle = text[prefix : len(text) - suffix].replace("\n", self._line_break(start))
+        begin = start + 4 + _raw_index(raw, prefix)
+        stop = start + 4 + _raw_index(raw, len(old) - suffix)
+        return Edit(begin, stop, middle)
+
+    def insert_element(
+        self,
+        anchor: etree._Element,
+        tag: str,
+        attributes: Sequence[tuple[str, str]],
+        where: str,
+    ) -> Edit:
+        """The edit that inserts ``<tag a="v"/>`` after or before ``anchor``: on a line of
+        its own indented as ``anchor``, where ``anchor`` starts its line; else beside it."""
+        for name in (tag, *(name for name, _ in attributes)):
+            if _NAME.fullmatch(name) is None or not self._holds(name):
+                raise EditError(f"'{name}' is no name this file can hold")
+        written = "".join(f' {name}="{self.escaped(value, chr(34))}"' for name, value in attributes)
+        markup = f"<{tag}{written}/>"
+        start, _ = self.start_tag(anchor)
+        line_start = _line_start(self.text, start)
+        indent = self.text[line_start:start]
+        alone = not indent.strip(" \t")
+        line_break = self._line_break(start)
+        if where == "before":
+            return Edit(start, start, markup + line_break + indent if alone else markup)
+        at = self.element_end(anchor)
+        return Edit(at, at, line_break + indent + markup if alone else markup)
+
+    def _line_break(self, offset: int) -> str:
+        """The line break the file uses near ``offset``: that of the line before it, or
+        of the first line, or a newline."""
+        before = _line_start(self.text, offset)
+        if before >= 2 and self.text[before - 2 : before] == "\r\n":
+            return "\r\n"
+        if before >= 1:
+            return self.text[before - 1]
+        found = _BREAK.search(self.text)
+        return found.group() if found else "\n"
+
+    def position(self, offset: int) -> tuple[int, int]:
+        """The line and column (1-based, in characters, a byte order mark not counted)
+        of ``offset``, as a finding's are counted."""
+        if self._line_starts is None:
+            self._line_starts = [0, *(found.end() for found in _BREAK.finditer(self.text))]
+        line = bisect.bisect_right(self._line_starts, offset)
+        column = offset - self._line_starts[line - 1] + 1
+        if line == 1 and self.text.startswith("\ufeff"):
+            column -= 1
+        return line, column
+
+    def placed(self, edit: Edit) -> TextEdit:
+        """``edit`` with the lines and columns reports and editors use."""
+        start_line, start_column = self.position(edit.start)
+        end_line, end_column = self.position(edit.end)
+        return TextEdit(
+            edit.content, start_line, start_column, end_line, end_column, edit.start, edit.end
+        )
+
+    def edits_of(self, fix: Fix) -> list[Edit]:
+        """The text edits that make ``fix``'s element edits; :class:`EditError` when one
+        cannot be made or two of them overlap."""
+        made: list[Edit] = []
+        for edit in fix.edits:
+            if isinstance(edit, SetAttribute):
+                made.append(self.set_attribute(edit.element, edit.name, edit.value))
+            elif isinstance(edit, ReplaceComment):
+                made.append(self.comment_edit(edit.comment, edit.text))
+            elif isinstance(edit, InsertElement):
+                made.append(self.insert_element(edit.anchor, edit.tag, edit.attributes, edit.where))
+            else:
+                raise EditError(f"{type(edit).__name__} is no edit")
+        if overlapping(made):
+            raise EditError("the fix's edits overlap")
+        return made
+
     def apply(self, edits: Iterable[Edit]) -> bytes:
         """The source with ``edits`` made, in the file's encoding; the edits must not
         overlap (two insertions at one place keep their order)."""
@@ -217,6 +351,51 @@ class EditableSource:
             return "".join(pieces).encode(self.codec)
         except UnicodeEncodeError as error:
             raise EditError(f"an edit holds what {self.codec} cannot write: {error}") from error
+
+
+def overlapping(edits: Iterable[Edit]) -> bool:
+    """Whether two of ``edits`` touch the same text (two insertions at one place do)."""
+    ordered = sorted(edits, key=lambda edit: (edit.start, edit.end))
+    return any(
+        later.start < earlier.end or later.start == earlier.start
+        for earlier, later in itertools.pairwise(ordered)
+    )
+
+
+def _line_start(text: str, offset: int) -> int:
+    return max(text.rfind("\n", 0, offset), text.rfind("\r", 0, offset)) + 1
+
+
+def _line_end(text: str, offset: int) -> int:
+    found = _BREAK.search(text, offset)
+    return len(text) if found is None else found.start()
+
+
+def _after_break(text: str, offset: int) -> int:
+    found = _BREAK.match(text, offset)
+    return offset if found is None else found.end()
+
+
+def _normalised(raw: str) -> str:
+    """Text as the parser reads it: every line break a newline."""
+    return raw.replace("\r\n", "\n").replace("\r", "\n")
+
+
+def _raw_index(raw: str, index: int) -> int:
+    """The offset in ``raw`` of the character at ``index`` of its normalised form."""
+    at = 0
+    for _ in range(index):
+        at += 2 if raw.startswith("\r\n", at) else 1
+    return at
+
+
+def _common_prefix(first: str, second: str) -> int:
+    size = 0
+    for left, right in zip(first, second, strict=False):
+        if left != right:
+            break
+        size += 1
+    return size
 
 
 def _codec_of(data: bytes, parsed: str | None) -> str:

@@ -9,7 +9,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Final, NamedTuple
+from typing import TYPE_CHECKING, Final, NamedTuple
 
 from lxml import etree
 
@@ -17,6 +17,9 @@ from xodrlint.document.positions import SourcePositions, lines_of, parser_positi
 from xodrlint.document.xpaths import ReadableXPaths
 from xodrlint.findings import Hit
 from xodrlint.messages import readable_parser_message
+
+if TYPE_CHECKING:
+    from xodrlint.document.edits import EditableSource
 
 #: ASAM's pre-1.6 namespace; files using it are read as if un-namespaced.
 ASAM_LEGACY_NAMESPACE: Final = "http://code.asam.net/simulation/standard/opendrive_schema"
@@ -189,6 +192,18 @@ class Document:
     @cached_property
     def _xpaths(self) -> ReadableXPaths:
         return ReadableXPaths(self.spliced)
+
+    @cached_property
+    def editable(self) -> EditableSource | str:
+        """The document's own source, ready for the edits of fixes; where it cannot be
+        edited byte for byte, why not."""
+        from xodrlint.document.edits import EditableSource, EditError
+
+        assert self.tree is not None, "only a parsed document is edited"
+        try:
+            return EditableSource(self.data, self.tree.getroot(), foreign=self.spliced)
+        except EditError as error:
+            return str(error)
 
     def fix_positions(self) -> None:
         """Index the positions of the document's own nodes now, before includes add

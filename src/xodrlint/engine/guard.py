@@ -20,6 +20,7 @@ from typing import Any, Final
 from lxml import etree
 
 from xodrlint.findings import Hit
+from xodrlint.fixes import Applicability, Fix, InsertElement, ReplaceComment, SetAttribute
 
 
 class RuleTimeout(BaseException):
@@ -114,7 +115,38 @@ def checked_hit(hit: object, root: etree._Element | None) -> Hit:
             raise RuleOutputError(
                 f"yielded a hit about {_shown(element)}, not an element of this document"
             )
+    if hit.fix is not None:
+        _check_fix(hit.fix, root)
     return hit
+
+
+def _check_fix(fix: object, root: etree._Element | None) -> None:
+    """A pack's fix is made of the rule API's edits, with text where text goes and
+    nodes of this document where nodes go: else :class:`RuleOutputError`."""
+    if not isinstance(fix, Fix) or not isinstance(fix.message, str):
+        raise RuleOutputError(f"yielded a hit whose fix is {_shown(fix)}, not a Fix")
+    if not isinstance(fix.applicability, Applicability) or not isinstance(fix.edits, tuple):
+        raise RuleOutputError(f"yielded a fix whose fields are {_shown(fix)}")
+    for edit in fix.edits:
+        texts: tuple[object, ...]
+        if isinstance(edit, SetAttribute):
+            node, texts = edit.element, (edit.name, edit.value)
+        elif isinstance(edit, ReplaceComment):
+            node, texts = edit.comment, (() if edit.text is None else (edit.text,))
+        elif isinstance(edit, InsertElement):
+            pairs = edit.attributes
+            if not isinstance(pairs, tuple) or not all(
+                isinstance(pair, tuple) and len(pair) == 2 for pair in pairs
+            ):
+                raise RuleOutputError(f"yielded an insertion whose attributes are {_shown(pairs)}")
+            node = edit.anchor
+            texts = (edit.tag, edit.where, *(text for pair in pairs for text in pair))
+        else:
+            raise RuleOutputError(f"yielded a fix with the edit {_shown(edit)}")
+        if not all(type(text) is str for text in texts):
+            raise RuleOutputError(f"yielded an edit whose text is not a str: {_shown(edit)}")
+        if not isinstance(node, etree._Element) or not _inside(node, root):
+            raise RuleOutputError(f"yielded an edit of {_shown(node)}, not a node of this document")
 
 
 def _inside(element: etree._Element, root: etree._Element | None) -> bool:

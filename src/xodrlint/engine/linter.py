@@ -15,7 +15,7 @@ import re
 import time
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
-from typing import Final, NamedTuple
+from typing import TYPE_CHECKING, Final, NamedTuple
 
 from lxml import etree
 
@@ -23,6 +23,7 @@ from xodrlint.concurrency.background import Pending
 from xodrlint.config.settings import COMMAND_LINE, DEFAULT, DEFAULT_RULE_TIMEOUT, Settings
 from xodrlint.config.sizes import DEFAULT_MAX_FILE_SIZE, too_large
 from xodrlint.document.load import Document, Version, load_bytes
+from xodrlint.engine.fixing import DIFF, Fixed, FixPolicy, Linted, diff_of, fix_source
 from xodrlint.engine.guard import RuleClock, RuleTimeout, checked_hit
 from xodrlint.engine.suppressions import (
     Suppressions,
@@ -39,6 +40,7 @@ from xodrlint.findings import (
     Severity,
     Suppressed,
 )
+from xodrlint.fixes import FindingFix
 from xodrlint.inputs.files import FileTooLarge, NotRegularFile, os_reason, read_regular_file
 from xodrlint.messages import one_line
 from xodrlint.model import RailNetwork, build_network
@@ -48,6 +50,9 @@ from xodrlint.rules.registry import Registry
 from xodrlint.rules.selection import select_rules, specificity
 from xodrlint.validation.sets import Origin, SchemaFinder, SchemaLoadError
 from xodrlint.validation.validators import SchemaCheck, SchemaValidators
+
+if TYPE_CHECKING:
+    pass
 
 SCHEMA_RULE: Final = "XS006"
 #: Reports the includes that cannot be followed (:mod:`xodrlint.document.includes`).
@@ -91,6 +96,11 @@ class LintOptions(NamedTuple):
     names it (:attr:`FileReport.rules_not_applied`)."""
     max_file_size: int = DEFAULT_MAX_FILE_SIZE
     """The largest file an ``include`` may bring in (``max-file-size``)."""
+    place_fixes: bool = False
+    """Place each fix's edits in the source (JSON and SARIF reports, the editor, ``--fix``
+    and ``--diff``); without it a finding's fix says only that it exists."""
+    fixes: FixPolicy = FixPolicy()
+    """Which fixes count, and whether the run makes them (``--fix``, ``--diff``)."""
     xsd_scope: str = "all"
     """``railroad``: a schema error (XS006) is listed only where it is about the railroad
     content (a ``railroad`` element, a station, a road with a rail or tram lane, and
@@ -122,6 +132,13 @@ class LintOptions(NamedTuple):
             all_versions=settings.all_versions,
             xsd_scope=settings.xsd_scope,
             max_file_size=settings.max_file_size,
+            fixes=FixPolicy(
+                mode=settings.fix_mode,
+                unsafe=settings.unsafe_fixes,
+                fixable=settings.fixable,
+                unfixable=settings.unfixable,
+            ),
+            place_fixes=settings.fix_mode != "",
         )
 
 
@@ -177,6 +194,9 @@ class Linter:
         self.rules = select_rules(registry, select, self.options.ignore)
         self._codes = {r.code for r in self.rules}
         self._settings = resolve_rule_options(registry, self.options.rule_options)
+        policy = self.options.fixes
+        every_code = policy.fixable == ("ALL",) and not policy.unfixable
+        self._fixable = None if every_code else policy.fixable_codes(registry)
         # the document rules report what loading and validating found: they run last,
         # and the unused-suppression rule once every other rule's findings are withheld
         self._unused_rules = [r for r in self.rules if r.code == UNUSED_SUPPRESSION]
@@ -241,7 +261,27 @@ class Linter:
         except OSError as error:
             return FileReport(shown, error=_os_error(error, shown))
         read = time.perf_counter() - started
+        if self.options.fixes.mode:
+            return _with_read_time(self._fix_file(data, shown, external, path), read)
         return _with_read_time(self.lint_bytes(data, shown, external, location=path), read)
+
+    def _fix_file(
+        self, data: bytes, shown: str, external: ExternalIgnores, path: Path
+    ) -> FileReport:
+        """The report of ``path`` once fixed: written back with ``--fix`` (what cannot be
+        written is the report's error, and the report the file's as it stays), or with
+        ``--diff`` the diff of what would change."""
+        fixed, diff = self._fixed(data, shown, external, path)
+        if self.options.fixes.mode == DIFF or fixed.data == data:
+            return fixed.report._replace(diff=diff)
+        from xodrlint.inputs.files import WriteRefused, replace_file
+
+        try:
+            replace_file(path, data, fixed.data)
+        except WriteRefused as refused:
+            unchanged, _ = self._lint_once(data, shown, external, path)
+            return unchanged._replace(error=f"{shown}: not fixed: {refused}")
+        return fixed.report
 
     def lint_url(
         self,
@@ -257,6 +297,8 @@ class Linter:
 
         shown = display or shown_url(url)
         local = local_path(url)
+        if self.options.fixes.mode and local is None:
+            return FileReport(shown, error=f"{shown}: an object by URL cannot be fixed in place")
         if local is not None:
             # a file:// URL's file is read as a path named on the command line: a FIFO or
             # a device is refused unread (file:///dev/zero was read up to the size limit,
@@ -290,12 +332,55 @@ class Linter:
         (``per-file-ignores``): (selector, justification) pairs. ``location`` is the file
         the bytes are (or stand for: an editor's unsaved buffer): its includes are read
         from its folder. Without one, an include is an XS007 finding."""
+        if self.options.fixes.mode:
+            fixed, diff = self._fixed(data, path, external, location)
+            if self.options.fixes.mode == DIFF:
+                return fixed.report._replace(diff=diff)
+            return fixed.report._replace(fixed_source=fixed.data)
+        return self._lint_once(data, path, external, location)[0]
+
+    def fixed_source(
+        self, data: bytes, path: str, location: Path | None = None
+    ) -> tuple[bytes, FileReport]:
+        """``data`` with every fix the options allow made (their ``fixes`` policy's mode
+        aside), and the report of what the result still has."""
+        fixed, _ = self._fixed(data, path, (), location)
+        return fixed.data, fixed.report
+
+    def _lint_once(
+        self, data: bytes, path: str, external: ExternalIgnores, location: Path | None
+    ) -> tuple[FileReport, Document]:
         with _collector_paused(freeze=self._keep_last_document):
             return self._lint_bytes(data, path, external, location)
 
+    def _fixed(
+        self, data: bytes, path: str, external: ExternalIgnores, location: Path | None
+    ) -> tuple[Fixed, str]:
+        """``data`` with the fixes the options allow made (:mod:`xodrlint.engine.fixing`),
+        and the diff of what changed."""
+
+        codecs: list[str] = []  # the file's, as its first editable source read it
+
+        def lint(text: bytes) -> Linted:
+            report, doc = self._lint_once(text, path, external, location)
+            if not doc.is_opendrive:
+                problem = next(iter(doc.problems.get("XS001", doc.problems.get("XS002", ()))), None)
+                return Linted(report, None, problem.message if problem else "no OpenDRIVE tree")
+            if not any(f.fix is not None and f.fix.edits for f in report.findings):
+                return Linted(report, None)
+            source = doc.editable
+            if not isinstance(source, str) and not codecs:
+                codecs.append(source.codec)
+            return Linted(report, source)
+
+        fixed = fix_source(data, lint, self.options.fixes)
+        if fixed.data == data or not codecs:
+            return fixed, ""
+        return fixed, diff_of(data, fixed.data, codecs[0], path)
+
     def _lint_bytes(
         self, data: bytes, path: str, external: ExternalIgnores, location: Path | None
-    ) -> FileReport:
+    ) -> tuple[FileReport, Document]:
         if SCHEMA_RULE in self._codes:
             declared = _HEADER_VERSION.search(data, 0, WARM_UP_BYTES)
             if declared is not None:  # compiled while the document is parsed
@@ -353,7 +438,7 @@ class Linter:
                 text = doc.source_line(finding.line) if finding.path == path else None
                 if text is not None:
                     source[finding.line] = text
-        return FileReport(
+        report = FileReport(
             path=path,
             findings=tuple(findings),
             source_lines=source,
@@ -367,6 +452,7 @@ class Linter:
             rules_not_applied=tuple(sorted(not_applied)),
             schema_errors_hidden=hidden,
         )
+        return report, doc
 
     def _follow_includes(
         self, doc: Document, location: Path | None, validation: _Validation
@@ -504,6 +590,9 @@ class Linter:
         message = one_line(hit.message)  # messages quote values a map may fill with anything
         if related:
             message += _at(related)
+        fix = None
+        if hit.fix is not None and (self._fixable is None or meta.code in self._fixable):
+            fix = self._finding_fix(doc, hit)
         finding = Finding(
             path=path,
             line=line,
@@ -514,9 +603,32 @@ class Linter:
             message=message,
             xpath=xpath,
             related=related,
+            fix=fix,
         )
         defers_to = meta.defers_to if hit.defers_to is None else hit.defers_to
         return _Stamped(finding, defers_to, hit.element)
+
+    def _finding_fix(self, doc: Document, hit: Hit) -> FindingFix | None:
+        """The fix of ``hit`` as its finding carries it: its edits placed in the source
+        when the run asked for them; ``None`` where they cannot be made (an element an
+        include brought in, a source that cannot be edited byte for byte)."""
+        fix = hit.fix
+        assert fix is not None
+        if hit.element is not None and doc.part_of(hit.element) is not None:
+            return None
+        if not self.options.place_fixes:
+            return FindingFix(fix.applicability, one_line(fix.message))
+        from xodrlint.document.edits import EditError
+
+        source = doc.editable
+        if isinstance(source, str):
+            return None
+        try:
+            edits = source.edits_of(fix)
+        except EditError:
+            return None
+        placed = tuple(source.placed(edit) for edit in edits)
+        return FindingFix(fix.applicability, one_line(fix.message), placed)
 
 
 def _resolved_by_includes(hits: Sequence[Hit], doc: Document) -> list[Hit]:

@@ -79,6 +79,7 @@ def get_formatter(
     quiet: bool = False,
     color: str | None = None,
     sarif_max_results: int | None = None,
+    unsafe_fixes: bool = False,
 ) -> Formatter:
     """An instance of the formatter ``name``; ``KeyError`` if there is none.
 
@@ -88,11 +89,14 @@ def get_formatter(
     plugin factories keep the keywords they were written for: ``color`` (one of
     ``output.COLOR_CHOICES``, ``None`` for "auto") to the text format,
     ``sarif_max_results`` (at most this many SARIF results, 0 for no limit, ``None`` for
-    the format's default) to the SARIF one.
+    the format's default) to the SARIF one, ``unsafe_fixes`` (whether the run counts
+    unsafe fixes as fixable, for its ``[*]`` marks) to the text one.
     """
     extra: dict[str, object] = {}
     if name == "text" and color is not None:
         extra["color"] = color
+    if name == "text" and unsafe_fixes:
+        extra["unsafe_fixes"] = True
     if name == "sarif" and sarif_max_results is not None:
         extra["max_results"] = sarif_max_results
     target = BUILTIN.get(name)
@@ -125,6 +129,12 @@ def carries_notes(formatter: Formatter) -> bool:
     what the run did not check), as a ``carries_notes = True`` attribute says; the
     command says them on stderr after a report that has no place for them."""
     return getattr(formatter, "carries_notes", False) is True
+
+
+def shows_fixes(formatter: Formatter) -> bool:
+    """Whether ``formatter`` writes the edits of each finding's fix (``shows_fixes =
+    True``): the run then places them in the source."""
+    return getattr(formatter, "shows_fixes", False) is True
 
 
 def says_withheld(formatter: Formatter) -> bool:

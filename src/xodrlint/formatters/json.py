@@ -13,6 +13,7 @@ FORMAT_VERSION: Final = 1
 
 class JsonFormatter:
     carries_notes = True
+    shows_fixes = True  # each finding's "fix" with its edits
     says_withheld = True  # in its summary
 
     def render(self, result: RunResult, stream: TextIO) -> None:
@@ -128,5 +129,14 @@ def _finding(finding: Finding) -> str:
         f'      "severity": {_string(str(finding.severity))},\n'
         f'      "message": {_string(finding.message)},\n'
         f'      "xpath": {_string(finding.xpath)},\n'
-        f'      "related": {related}\n    }}'
+        f'      "related": {related},\n'
+        f'      "fix": {_fix(finding)}\n    }}'
     )
+
+
+def _fix(finding: Finding) -> str:
+    """The finding's fix as ``json.dumps(indent=2)`` lays it out at depth 3 (rare: the
+    plain encoder serves)."""
+    if finding.fix is None:
+        return "null"
+    return json.dumps(finding.fix.as_dict(), indent=2, ensure_ascii=False).replace("\n", "\n      ")

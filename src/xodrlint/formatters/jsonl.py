@@ -29,6 +29,8 @@ _LINE_BREAKS: Final = str.maketrans({"\x85": "\\u0085", "\u2028": "\\u2028", "\u
 
 
 class JsonlFormatter:
+    shows_fixes = True  # each finding's "fix" with its edits
+
     def render(self, result: RunResult, stream: TextIO) -> None:
         for report in result.reports:
             self.write_file(report, stream)
@@ -68,9 +70,15 @@ def line(finding: Finding) -> str:
         f'{{"path":{_string(finding.path)},"line":{int(finding.line)},"column":{column},'
         f'"code":{_string(finding.code)},"uid":{_string(finding.uid)},'
         f'"severity":{_string(str(finding.severity))},"message":{_string(finding.message)},'
-        f'"xpath":{_string(finding.xpath)},"related":[{related}]}}'
+        f'"xpath":{_string(finding.xpath)},"related":[{related}],"fix":{_fix(finding)}}}'
     )
     return _escaped(text)
+
+
+def _fix(finding: Finding) -> str:
+    if finding.fix is None:
+        return "null"
+    return json.dumps(finding.fix.as_dict(), ensure_ascii=False, separators=(",", ":"))
 
 
 def _escaped(text: str) -> str:

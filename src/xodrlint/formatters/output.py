@@ -11,6 +11,9 @@ from pathlib import Path
 from typing import Final, TextIO
 
 STDOUT: Final = "-"
+#: Where a report goes when standard output carries a document (``--fix`` on standard
+#: input): standard error. No path names it.
+STDERR: Final = "\0stderr"
 #: ``--color``: ``auto`` follows ``NO_COLOR``, ``FORCE_COLOR`` and whether the stream is
 #: a terminal; the others decide alone.
 COLOR_CHOICES: Final = ("auto", "always", "never")
@@ -77,6 +80,10 @@ def write_output(output: str | None, render: Render) -> None:
     if output in (None, STDOUT):
         render(sys.stdout)
         sys.stdout.flush()
+        return
+    if output == STDERR:
+        render(sys.stderr)
+        sys.stderr.flush()
         return
     target = Path(output)
     try:

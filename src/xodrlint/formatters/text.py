@@ -13,6 +13,7 @@ from rich.console import Console
 from rich.text import Text
 
 from xodrlint.findings import FileReport, Finding, RunResult, Severity
+from xodrlint.fixes import Applicability
 from xodrlint.formatters.output import color_wanted, interactive
 from xodrlint.messages import one_line, plural
 
@@ -59,11 +60,17 @@ class TextFormatter:
     says_withheld = True  # its summary line
 
     def __init__(
-        self, *, show_source: bool = False, quiet: bool = False, color: str | None = None
+        self,
+        *,
+        show_source: bool = False,
+        quiet: bool = False,
+        color: str | None = None,
+        unsafe_fixes: bool = False,
     ) -> None:
         self.show_source = show_source
         self.quiet = quiet
         self.color = color  # one of output.COLOR_CHOICES; None is "auto"
+        self.unsafe_fixes = unsafe_fixes  # whether unsafe fixes count as fixable
 
     def render(self, result: RunResult, stream: TextIO) -> None:
         console = styled_console(stream, self.color)
@@ -72,6 +79,9 @@ class TextFormatter:
                 self._file(console, report)
         if not self.quiet:
             console.print(_summary(result))
+            fixable = _fixable_line(result, self.unsafe_fixes)
+            if fixable is not None:
+                console.print(fixable)
             # the facts of files without findings, which have no header to say them
             # (--quiet, the pre-commit hook, drops them with the summary); the run's
             # notes, what was not checked, the command says on stderr either way
@@ -90,7 +100,7 @@ class TextFormatter:
                 header.append(f"  ({'; '.join(facts)})", style="dim")
             console.print(header)
         for finding in report.findings:
-            console.print(_line(finding))
+            console.print(_line(finding, self.unsafe_fixes))
             if self.quiet:
                 continue
             console.print(Text(f"    {finding.xpath}", style="dim"))
@@ -121,7 +131,27 @@ def _schema_notes(result: RunResult) -> list[str]:
     return notes
 
 
-def _line(finding: Finding) -> Text:
+def _marked(finding: Finding, unsafe_fixes: bool) -> bool:
+    """Whether ``--fix`` (with ``--unsafe-fixes`` where the run has it) mends ``finding``."""
+    fix = finding.fix
+    return fix is not None and (unsafe_fixes or fix.applicability is Applicability.SAFE)
+
+
+def _fixable_line(result: RunResult, unsafe_fixes: bool) -> Text | None:
+    """``[*] 3 fixable with --fix (2 more with --unsafe-fixes).``, where there are any."""
+    findings = result.findings
+    fixable = sum(1 for finding in findings if _marked(finding, unsafe_fixes))
+    hidden = sum(1 for finding in findings if finding.fix is not None) - fixable
+    if not fixable and not hidden:
+        return None
+    flag = "--fix --unsafe-fixes" if unsafe_fixes else "--fix"
+    text = f"[*] {fixable} fixable with {flag}"
+    if hidden:
+        text += f" ({hidden} more with --unsafe-fixes)"
+    return Text(text + ".")
+
+
+def _line(finding: Finding, unsafe_fixes: bool = False) -> Text:
     # a file name may hold anything a terminal obeys (ESC, line breaks): escaped
     location = f"{one_line(finding.path)}:{finding.line}"
     if finding.column is not None:
@@ -131,6 +161,8 @@ def _line(finding: Finding) -> Text:
     text.append(": ")
     text.append(finding.code, style=STYLE[finding.severity])
     text.append(f" [{finding.severity}] ", style=STYLE[finding.severity])
+    if _marked(finding, unsafe_fixes):
+        text.append("[*] ", style="bold")
     text.append(finding.message)
     return text
 
@@ -156,6 +188,13 @@ def _summary(result: RunResult) -> Text:
         text = Text(
             f"Found {plural(total, f'{new.strip()} finding'.strip())} ({parts}) "
             f"in {with_findings} of {plural(files, 'file')}"
+        )
+    fixed = sum(report.fixed for report in result.reports)
+    if fixed:
+        # ruff's words: what was found is what is left and what was mended
+        text = Text(
+            f"Found {plural(total + fixed, 'finding')} ({fixed} fixed, {total} remaining) "
+            f"in {plural(files, 'file')}"
         )
     if result.baseline is not None:  # what it took away belongs beside what is left
         text.append(f"; {result.withheld} withheld by {result.baseline}")

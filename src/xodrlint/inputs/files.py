@@ -105,3 +105,47 @@ def write_atomically(path: Path, data: bytes) -> None:
     except BaseException:
         Path(temporary).unlink(missing_ok=True)
         raise
+
+
+class WriteRefused(Exception):
+    """A fixed file that is not written back, with why (one line)."""
+
+
+def replace_file(path: Path, original: bytes, data: bytes, root: Path | None = None) -> None:
+    """Replace the file ``path`` holds, read as ``original``, with ``data``: atomically
+    (a temporary file beside it, then a rename), keeping its mode. Refused
+    (:class:`WriteRefused`) for a read-only file, a file that changed since it was read,
+    and a link that leads out of ``root`` (the folder a walk found it in)."""
+    import tempfile
+
+    target = path
+    if path.is_symlink():
+        target = path.resolve()
+        if root is not None and not target.is_relative_to(root.resolve()):
+            raise WriteRefused("is a link leading out of the folder walked")
+    try:
+        status = target.stat()
+        current = read_regular_file(target)
+    except OSError as error:
+        raise WriteRefused(f"cannot be read again: {os_reason(error)}") from None
+    if not status.st_mode & 0o222 or not os.access(target, os.W_OK):
+        raise WriteRefused("is read-only")
+    if current != original:
+        raise WriteRefused("changed on disk since it was read")
+    try:
+        handle, temporary = tempfile.mkstemp(prefix=f".{target.name}.", dir=target.parent)
+    except OSError as error:
+        raise WriteRefused(f"cannot be written: {os_reason(error)}") from None
+    try:
+        with os.fdopen(handle, "wb") as stream:
+            stream.write(data)
+            stream.flush()
+            os.fsync(stream.fileno())
+        Path(temporary).chmod(stat.S_IMODE(status.st_mode))
+        Path(temporary).replace(target)
+    except OSError as error:
+        Path(temporary).unlink(missing_ok=True)
+        raise WriteRefused(f"cannot be written: {os_reason(error)}") from None
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise

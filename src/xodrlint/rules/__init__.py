@@ -33,6 +33,14 @@ from xodrlint.findings import (
     Severity,
     doc_summary,
 )
+from xodrlint.fixes import (
+    Applicability,
+    Fix,
+    insert_element,
+    remove_comment,
+    replace_comment,
+    set_attribute,
+)
 from xodrlint.model import (
     NON_TRAFFIC_LANE_TYPES,
     RAIL_LANE_TYPES,
@@ -75,9 +83,11 @@ __all__ = [
     "RAIL_LANE_TYPES",
     "RESERVED_PREFIXES",
     "S_TOLERANCE",
+    "Applicability",
     "Connection",
     "Cubic",
     "Extremes",
+    "Fix",
     "Hit",
     "Junction",
     "JunctionLaneLink",
@@ -102,20 +112,24 @@ __all__ = [
     "centre_terms",
     "collect",
     "extremes",
+    "insert_element",
     "integer",
     "lane_width",
     "non_finite",
     "number",
     "numbers",
+    "remove_comment",
+    "replace_comment",
     "rule",
     "section_ranges",
+    "set_attribute",
 ]
 
 #: The rule API's version, ``(major, minor)``: the minor grows when names or fields are
 #: added, the major when one is removed, renamed or changes meaning. A pack states the
 #: version it was written for as ``XODRLINT_RULE_API`` in the module its entry point
 #: names; a pack of another major, or of a newer minor, is not loaded.
-API_VERSION: Final = (1, 2)
+API_VERSION: Final = (1, 3)
 
 #: Code prefixes of the built-in rule families, and ``X`` for the linter's own (XS, XL,
 #: and families to come). A third-party pack whose codes start with one of them is not

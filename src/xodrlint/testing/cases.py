@@ -24,6 +24,18 @@ EXPECT: Final = re.compile(r"<!--\s*expect:\s*(?P<codes>[A-Z0-9,\s]+?)\s*-->")
 SELECTION_FILE: Final = "rule.toml"
 _KEYS: Final = ("select", "options", "all-versions")
 CASE_SUFFIX: Final = ".xodr"
+#: An invalid case's expected output once fixed sits beside it: ``invalid_x.fixed.xodr``.
+FIXED_SUFFIX: Final = ".fixed.xodr"
+
+
+def is_case(path: Path) -> bool:
+    """Whether ``path`` is a case (a fixed case's expected output is none)."""
+    return path.name.endswith(CASE_SUFFIX) and not path.name.endswith(FIXED_SUFFIX)
+
+
+def fixed_output(case: Path) -> Path:
+    """Where a case's expected output once fixed stands."""
+    return case.with_name(case.name.removesuffix(CASE_SUFFIX) + FIXED_SUFFIX)
 
 
 @dataclass(frozen=True, slots=True)
@@ -121,9 +133,9 @@ def folder_selection(folder: Path) -> tuple[str, ...]:
 
 def cases_in(folder: Path) -> list[RuleCase]:
     """The cases of one folder, by name."""
-    return [read_case(path) for path in sorted(folder.glob(f"*{CASE_SUFFIX}"))]
+    return [read_case(path) for path in sorted(folder.glob(f"*{CASE_SUFFIX}")) if is_case(path)]
 
 
 def find_cases(root: Path) -> list[RuleCase]:
     """Every case below ``root`` (``rules/``), folder by folder."""
-    return [read_case(path) for path in sorted(root.rglob(f"*{CASE_SUFFIX}"))]
+    return [read_case(path) for path in sorted(root.rglob(f"*{CASE_SUFFIX}")) if is_case(path)]

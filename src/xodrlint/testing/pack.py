@@ -15,11 +15,21 @@ from typing import TYPE_CHECKING
 
 from xodrlint.findings import RuleMeta
 from xodrlint.rules import CODE_PATTERN
-from xodrlint.testing.cases import CASE_SUFFIX, SELECTION_FILE, RuleCase, cases_in, find_cases
+from xodrlint.testing.cases import (
+    CASE_SUFFIX,
+    FIXED_SUFFIX,
+    SELECTION_FILE,
+    RuleCase,
+    cases_in,
+    find_cases,
+    fixed_output,
+    is_case,
+)
 from xodrlint.testing.docstrings import docstring_problems
 from xodrlint.testing.pages import render_page
 
 if TYPE_CHECKING:
+    from xodrlint.engine.linter import Linter
     from xodrlint.findings import FileReport
     from xodrlint.rules import Rule
     from xodrlint.rules.registry import Registry
@@ -87,12 +97,48 @@ class RulePack:
 
     def lint(self, case: RuleCase) -> FileReport:
         """The case linted with its selection, as ``xodrlint check --select`` would."""
+        return self._linter(case).lint_path(case.path)
+
+    def _linter(self, case: RuleCase, *, fixing: bool = False) -> Linter:
+        from xodrlint.engine.fixing import DIFF, FixPolicy
         from xodrlint.engine.linter import Linter, LintOptions
 
         options = LintOptions(
-            select=case.select, rule_options=case.options, all_versions=case.all_versions
+            select=case.select,
+            rule_options=case.options,
+            all_versions=case.all_versions,
+            fixes=FixPolicy(mode=DIFF, unsafe=True) if fixing else FixPolicy(),
+            place_fixes=fixing,
         )
-        return Linter(self.registry, options).lint_path(case.path)
+        return Linter(self.registry, options)
+
+    def fix_problems(self, case: RuleCase) -> list[str]:
+        """How ``case`` fixed (every fix of its selection, unsafe ones too) differs from
+        its expected output (``invalid_x.fixed.xodr``, byte for byte), and whether fixing
+        that output changes it again. A case whose findings have fixes needs one; a valid
+        case has none."""
+        expected_path = fixed_output(case.path)
+        has_output = expected_path.is_file()
+        if case.is_valid:
+            return [f"{case.id}: a valid_ case has no fixed output"] if has_output else []
+        linter = self._linter(case, fixing=True)
+        fixed, report = linter.fixed_source(case.path.read_bytes(), case.id, case.path)
+        problems = [f"{case.id}: internal error: {error}" for error in report.internal_errors]
+        if not has_output:
+            if fixed != case.path.read_bytes():
+                name = expected_path.name
+                problems.append(f"{case.id}: its findings have fixes; record the output in {name}")
+            return problems
+        expected = expected_path.read_bytes()
+        if fixed != expected:
+            problems.append(
+                f"{case.id}: fixed, it differs from {expected_path.name}:\n"
+                + _diff(expected, fixed, expected_path.name)
+            )
+        again, _ = linter.fixed_source(expected, expected_path.name, expected_path)
+        if again != expected:
+            problems.append(f"{case.id}: fixing {expected_path.name} changes it again")
+        return problems
 
     def case_problems(self, case: RuleCase) -> list[str]:
         """How the findings of ``case`` differ from its ``expect`` marks, line and code."""
@@ -130,7 +176,11 @@ class RulePack:
     def docstring_problems(self, meta: RuleMeta) -> list[str]:
         """What the rule's doc page (its module docstring) lacks."""
         folder = self.cases_root / meta.code
-        texts = {p.name: p.read_text(encoding="utf-8") for p in folder.glob(f"*{CASE_SUFFIX}")}
+        texts = {
+            p.name: p.read_text(encoding="utf-8")
+            for p in folder.glob(f"*{CASE_SUFFIX}")
+            if is_case(p)
+        }
         invalid = [text for name, text in texts.items() if name.startswith("invalid_")]
         valid = [text for name, text in texts.items() if name.startswith("valid_")]
         return docstring_problems(meta, invalid, valid)
@@ -139,12 +189,19 @@ class RulePack:
         """Rules without a valid_ and an invalid_ case, and case folders without a rule."""
         problems = []
         for meta in self.metas:
-            names = [p.name for p in (self.cases_root / meta.code).glob(f"*{CASE_SUFFIX}")]
+            names = [
+                p.name for p in (self.cases_root / meta.code).glob(f"*{CASE_SUFFIX}") if is_case(p)
+            ]
             for kind in ("valid_", "invalid_"):
                 if not any(name.startswith(kind) for name in names):
                     problems.append(
                         f"{meta.code} has no {kind}* case in {self.cases_root / meta.code}"
                     )
+        if self.cases_root.is_dir():
+            for output in sorted(self.cases_root.rglob(f"*{FIXED_SUFFIX}")):
+                case = output.with_name(output.name.removesuffix(FIXED_SUFFIX) + CASE_SUFFIX)
+                if not case.is_file():
+                    problems.append(f"{output} is the fixed output of no case ({case.name})")
         codes = {meta.code for meta in self.metas}
         for folder in sorted({case.path.parent for case in self.cases}):
             if (folder / SELECTION_FILE).is_file():
@@ -189,6 +246,18 @@ class RulePack:
                 path.write_text(text, encoding="utf-8")
                 written.append(path)
         return written
+
+
+def _diff(expected: bytes, found: bytes, name: str) -> str:
+    import difflib
+
+    lines = difflib.unified_diff(
+        expected.decode("utf-8", "replace").splitlines(keepends=True),
+        found.decode("utf-8", "replace").splitlines(keepends=True),
+        fromfile=name,
+        tofile="fixed",
+    )
+    return "".join(lines)
 
 
 def write_command(pack: RulePack) -> str:

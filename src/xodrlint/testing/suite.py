@@ -20,6 +20,7 @@ from xodrlint.testing.pack import RulePack
 
 __all__ = [
     "test_case",
+    "test_case_fix",
     "test_doc_pages_are_generated",
     "test_every_rule_has_cases",
     "test_rule_is_documented",
@@ -34,6 +35,11 @@ def _report(problems: list[str]) -> None:
 def test_case(xodrlint_pack: RulePack, xodrlint_case: RuleCase) -> None:
     """The case's findings are its expect marks, code and line, with its rule selected."""
     _report(xodrlint_pack.case_problems(xodrlint_case))
+
+
+def test_case_fix(xodrlint_pack: RulePack, xodrlint_case: RuleCase) -> None:
+    """A case's fixes give its expected output (``invalid_x.fixed.xodr``), byte for byte."""
+    _report(xodrlint_pack.fix_problems(xodrlint_case))
 
 
 def test_rule_is_documented(xodrlint_pack: RulePack, xodrlint_rule: RuleMeta) -> None:

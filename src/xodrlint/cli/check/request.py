@@ -45,6 +45,11 @@ class CheckRequest(NamedTuple):
     xsd_scope: str | None = None
     """``--xsd-scope``: ``all`` or ``railroad`` (which schema errors are listed)."""
     show_suppressed: bool = False
+    fix: bool | None = None
+    unsafe_fixes: bool | None = None
+    diff: bool = False
+    fixable: tuple[str, ...] | None = None
+    unfixable: tuple[str, ...] | None = None
     sarif_max_results: int | None = None
     statistics: bool = False
     reports: tuple[str, ...] = ()

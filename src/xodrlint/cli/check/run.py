@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 from xodrlint import __version__
 from xodrlint.api import default_registry, exit_code
+from xodrlint.cli.check.fixes import show_diffs, write_document
 from xodrlint.cli.check.inputs import (
     InputsError,
     check_stdin,
@@ -58,10 +59,11 @@ from xodrlint.formatters import (
     carries_notes,
     get_formatter,
     says_withheld,
+    shows_fixes,
     streaming,
     warnings_of,
 )
-from xodrlint.formatters.output import STDOUT, error_line
+from xodrlint.formatters.output import STDERR, STDOUT, error_line
 from xodrlint.inputs.collect import STDIN, Input
 from xodrlint.inputs.remote import is_url
 from xodrlint.messages import one_line
@@ -126,6 +128,11 @@ def _overrides(request: CheckRequest) -> dict[str, object]:
         "xsd-scope": request.xsd_scope,
         "max-file-size": _max_file_size(request.max_file_size),
         "rule-timeout": request.rule_timeout,
+        "fix": request.fix,
+        "diff": request.diff or None,
+        "unsafe-fixes": request.unsafe_fixes,
+        "fixable": request.fixable,
+        "unfixable": request.unfixable,
     }
 
 
@@ -208,7 +215,9 @@ def run_check(request: CheckRequest, formatter: Formatter | None = None) -> int:
         codes = (rule.code for rule in plan.linters[0].rules)
         describe_run(plan.settings, codes, readable, _jobs(request), request.scheduler)
     source = _source(plan, request)
-    streamed = None if request.write_baseline else streaming(plan.formatter)
+    # a fixing run writes documents or diffs beside its report: it keeps every report
+    fixing = bool(plan.settings.fix_mode) or any(s.fix for s in plan.resolver.settings)
+    streamed = None if request.write_baseline or fixing else streaming(plan.formatter)
     try:
         if streamed is not None:
             return run_stream(source, streamed, Streamed.of(request, plan.baseline))
@@ -253,7 +262,24 @@ def _ready(registry: Registry, request: CheckRequest, formatter: Formatter | Non
         check_streamable(settings.output_format, (report for report, _ in extra))
     check_stdin(request.paths, request.stdin_filename)
     check_scheduler(request.scheduler, request.scheduler_timeout, request.jobs)
+    _check_fixing(request, settings)
     return _Ready(resolver, formatter, extra)
+
+
+def _check_fixing(request: CheckRequest, settings: Settings) -> None:
+    """Refuse what ``--fix`` and ``--diff`` cannot do, before any input is listed: write
+    an object back to its store, or run on a cluster (whose workers would write)."""
+    mode = settings.fix_mode
+    if not mode:
+        return
+    flag = "--diff" if mode == "diff" else "--fix"
+    url = next((path for path in request.paths if is_url(path)), None)
+    if url is not None:
+        raise UsageError(f"{flag}: cannot fix an object by URL in place ({one_line(url)})")
+    if request.scheduler is not None:
+        raise UsageError(f"{flag} runs on this machine: it does not go with --scheduler")
+    if request.write_baseline is not None:
+        raise UsageError(f"{flag} does not go with --write-baseline")
 
 
 def _inputs(request: CheckRequest, resolver: Resolver) -> list[Input]:
@@ -286,8 +312,11 @@ def _plan(registry: Registry, request: CheckRequest, ready: _Ready, inputs: list
         from xodrlint.engine.baseline import load_baseline
 
         baseline = load_baseline(request.baseline)
-    first = _kept_linter(registry, resolver.options[0], request.keep_alive)
-    linters = Linters(resolver.options, first=first)
+    options = resolver.options
+    if request.diff or any(shows_fixes(f) for f in (ready.formatter, *(f for _, f in ready.extra))):
+        options = [each._replace(place_fixes=True) for each in options]
+    first = _kept_linter(registry, options[0], request.keep_alive)
+    linters = Linters(options, first=first)
     linters.built()  # each profile's rules and options refused here, not in a worker
     return _Plan(
         settings=resolver.run,
@@ -314,6 +343,9 @@ def _report(
             error_line(f"internal error: {crash}")
     if request.write_baseline is not None:  # every current finding, the baseline's too
         return write_baseline(request.write_baseline, reports)
+    if settings.diff:
+        return show_diffs(reports)
+    fixed_document = next((r.fixed_source for r in reports if r.fixed_source is not None), None)
     withheld = 0
     if baseline is not None:
         from xodrlint.engine.baseline import apply_baseline
@@ -337,7 +369,14 @@ def _report(
         if request.statistics
         else report_renderer(formatter, result)
     )
-    written = [("--output " + str(request.output), request.output, main)]
+    output = request.output
+    if fixed_document is not None:
+        # standard output carries the fixed document, as ruff's --fix on stdin does; the
+        # report goes to standard error unless -o names a file
+        if not write_document(fixed_document):
+            return 2
+        output = STDERR if output in (None, STDOUT) else output
+    written = [("--output " + str(request.output), output, main)]
     written += [(report.flag, report.path, report_renderer(f, result)) for report, f in plan.extra]
     if not write_reports(written):
         return 2
@@ -458,6 +497,7 @@ def _formatter(
             quiet=request.quiet,
             color="never" if to_file else request.color,
             sarif_max_results=settings.sarif_max_results,
+            unsafe_fixes=settings.unsafe_fixes,
         )
     except KeyError:
         where = f"{flag}: " if flag else ""

@@ -50,7 +50,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from xodrlint.rules import Hit, RailNetwork, Severity, rule
+from xodrlint.rules import Fix, Hit, RailNetwork, Severity, rule, set_attribute
 from xodrlint.rules._shared import quoted
 
 
@@ -72,4 +72,8 @@ def partner_name_mismatch(network: RailNetwork) -> Iterator[Hit]:
                 f"partner of switch {quoted(switch.id)} is named '{partner.name}', but switch "
                 f"'{partner.id}' is named '{named.name}'",
                 related=(named.element,),
+                fix=Fix(
+                    f"name the partner '{named.name}'",
+                    (set_attribute(partner.element, "name", named.name),),
+                ),
             )

@@ -1,0 +1,97 @@
+"""``xodrlint check --fix``, ``--diff`` and ``--unsafe-fixes`` as a user runs them: files
+written back, diffs, standard input's fixed document on standard output, the marks and
+counts of the text report, the JSON report's fixes, and what is refused."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+from tests.cli.test_cli import OUTPUT_SCHEMA, cli
+from tests.conftest import REPO
+
+CASES = REPO / "rules" / "PT003"
+MISMATCH = CASES / "invalid_name_mismatch.xodr"
+MISMATCH_FIXED = CASES / "invalid_name_mismatch.fixed.xodr"
+
+
+def _copy(tmp_path: Path, source: Path = MISMATCH, name: str = "a.xodr") -> Path:
+    target = tmp_path / name
+    shutil.copyfile(source, target)
+    return target
+
+
+def test_check_marks_fixable_findings_and_counts_them(tmp_path: Path) -> None:
+    target = _copy(tmp_path)
+    done = cli("check", "--select", "PT003", target, code=1)
+    assert "PT003 [warning] [*] partner of switch '12'" in done.stdout
+    assert "[*] 1 fixable with --fix." in done.stdout
+
+
+def test_fix_writes_the_file_and_reports_what_is_left(tmp_path: Path) -> None:
+    target = _copy(tmp_path)
+    done = cli("check", "--select", "PT003", "--fix", target, code=0)
+    assert "Found 1 finding (1 fixed, 0 remaining) in 1 file." in done.stdout
+    assert target.read_bytes() == MISMATCH_FIXED.read_bytes()
+    again = cli("check", "--select", "PT003", "--fix", target, code=0)
+    assert "All checks passed" in again.stdout
+    assert target.read_bytes() == MISMATCH_FIXED.read_bytes()
+
+
+def test_diff_shows_what_fix_would_change_and_writes_nothing(tmp_path: Path) -> None:
+    target = _copy(tmp_path)
+    done = cli("check", "--select", "PT003", "--diff", target, code=1)
+    assert target.read_bytes() == MISMATCH.read_bytes()
+    assert f"--- a/{target.as_posix()}" in done.stdout
+    assert '-        <partner name="W23" id="32"/>' in done.stdout
+    assert '+        <partner name="W32" id="32"/>' in done.stdout
+    assert "would fix 1 finding in 1 file" in done.stderr
+    clean = cli("check", "--select", "PT003", "--diff", MISMATCH_FIXED, code=0)
+    assert clean.stdout == "" and "no fixes available" in clean.stderr
+
+
+def test_fix_on_standard_input_writes_the_document_to_standard_output() -> None:
+    done = cli("check", "--select", "PT003", "--fix", "-", code=0, stdin=MISMATCH.read_bytes())
+    assert done.stdout_bytes == MISMATCH_FIXED.read_bytes()
+    assert "1 fixed, 0 remaining" in done.stderr
+
+
+def test_json_findings_carry_their_fix_with_its_edits(tmp_path: Path) -> None:
+    import jsonschema  # type: ignore[import-untyped, unused-ignore]
+
+    done = cli("check", "-f", "json", "--select", "PT003", _copy(tmp_path), code=1)
+    document = json.loads(done.stdout)
+    jsonschema.validate(document, OUTPUT_SCHEMA)
+    (finding,) = document["findings"]
+    assert finding["fix"] == {
+        "applicability": "safe",
+        "message": "name the partner 'W32'",
+        "edits": [{"content": "W32", "line": 22, "column": 24, "end_line": 22, "end_column": 27}],
+    }
+    lines = json.loads(cli("check", "-f", "jsonl", "--select", "PT003", MISMATCH, code=1).stdout)
+    assert lines["fix"] == finding["fix"]
+
+
+def test_fix_with_jobs_fixes_every_file_in_the_workers(tmp_path: Path) -> None:
+    targets = [_copy(tmp_path, name=f"{n}.xodr") for n in range(4)]
+    done = cli("check", "--select", "PT003", "--fix", "--jobs", "2", tmp_path, code=0)
+    assert "Found 4 findings (4 fixed, 0 remaining) in 4 files." in done.stdout
+    assert all(t.read_bytes() == MISMATCH_FIXED.read_bytes() for t in targets)
+
+
+def test_fix_refuses_a_read_only_file_and_goes_on(tmp_path: Path) -> None:
+    locked = _copy(tmp_path, name="a.xodr")
+    locked.chmod(0o444)
+    free = _copy(tmp_path, name="b.xodr")
+    done = cli("check", "--select", "PT003", "--fix", tmp_path, code=2)
+    assert f"{locked.as_posix()}: not fixed: is read-only" in done.stderr
+    assert locked.read_bytes() == MISMATCH.read_bytes()
+    assert free.read_bytes() == MISMATCH_FIXED.read_bytes()
+
+
+def test_fix_is_refused_for_a_url_and_a_scheduler(tmp_path: Path) -> None:
+    url = cli("check", "--fix", "s3://bucket/a.xodr", code=2)
+    assert url.stderr.count("\n") == 1 and "cannot fix an object by URL" in url.stderr
+    cluster = cli("check", "--fix", "--scheduler", "local", _copy(tmp_path), code=2)
+    assert "--fix" in cluster.stderr and "--scheduler" in cluster.stderr

@@ -1,0 +1,179 @@
+"""Fixes made pass by pass (engine/fixing.py): each checked by linting the result, a fix
+that breaks the document or leaves its finding rolled back as its rule's internal error,
+the others kept; and the writes of ``--fix`` (atomic, refused where they must be)."""
+
+from __future__ import annotations
+
+import stat
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+from lxml import etree
+
+from tests.conftest import REPO
+from xodrlint.api import default_registry
+from xodrlint.engine.fixing import APPLY, DIFF, FixPolicy
+from xodrlint.engine.linter import Linter, LintOptions
+from xodrlint.inputs.files import WriteRefused, replace_file
+from xodrlint.rules import (
+    Applicability,
+    Fix,
+    Hit,
+    RailNetwork,
+    Severity,
+    insert_element,
+    rule,
+    set_attribute,
+)
+from xodrlint.rules.registry import Registry
+
+MISMATCH = REPO / "rules" / "PT003" / "invalid_name_mismatch.xodr"
+MISMATCH_FIXED = REPO / "rules" / "PT003" / "invalid_name_mismatch.fixed.xodr"
+
+
+def _linter(registry: Registry, select: tuple[str, ...], **policy: object) -> Linter:
+    fixes = FixPolicy(**policy)  # type: ignore[arg-type]
+    return Linter(registry, LintOptions(select=select, fixes=fixes, place_fixes=True))
+
+
+@rule(code="ZZ101", name="breaks-the-document", uid="test:breaks", severity=Severity.ERROR)
+def breaks_the_document(network: RailNetwork) -> Iterator[Hit]:
+    """A hostile pack's fix: a second root element before the first."""
+    for switch in network.switches:
+        root = switch.element.getroottree().getroot()
+        edit = insert_element(root, "OpenDRIVE", {}, where="before")
+        yield Hit(switch.element, "breaks", fix=Fix("add a second root", (edit,)))
+
+
+@rule(code="ZZ102", name="mends-nothing", uid="test:nothing", severity=Severity.ERROR)
+def mends_nothing(network: RailNetwork) -> Iterator[Hit]:
+    """A fix that leaves its defect where it was."""
+    for switch in network.switches:
+        edit = set_attribute(switch.element, "name", "still wrong")
+        yield Hit(switch.element, "always", fix=Fix("rename", (edit,), Applicability.UNSAFE))
+
+
+def _with(*extra: object) -> Registry:
+    return Registry((*default_registry().rules, *extra))  # type: ignore[arg-type]
+
+
+def test_a_fix_is_made_and_the_report_is_the_fixed_files() -> None:
+    linter = _linter(default_registry(), ("PT003",), mode=DIFF)
+    fixed, report = linter.fixed_source(MISMATCH.read_bytes(), "a.xodr")
+    assert fixed == MISMATCH_FIXED.read_bytes()
+    assert report.findings == () and report.fixed == 1 and report.internal_errors == ()
+
+
+def test_a_fix_that_breaks_the_document_is_rolled_back_and_the_others_stay() -> None:
+    linter = _linter(_with(breaks_the_document), ("PT003", "ZZ101"), mode=DIFF)
+    fixed, report = linter.fixed_source(MISMATCH.read_bytes(), "a.xodr")
+    assert fixed == MISMATCH_FIXED.read_bytes()  # PT003's fix stands
+    assert report.fixed == 1
+    errors = [e for e in report.internal_errors if "ZZ101" in e]
+    assert errors and "not well-formed" in errors[0], report.internal_errors
+    assert [f.code for f in report.findings].count("ZZ101") == 2  # still reported
+
+
+def test_a_fix_that_leaves_its_finding_is_rolled_back() -> None:
+    linter = _linter(_with(mends_nothing), ("ZZ102",), mode=DIFF, unsafe=True)
+    data = MISMATCH.read_bytes()
+    fixed, report = linter.fixed_source(data, "a.xodr")
+    assert fixed == data and report.fixed == 0
+    assert any("still has its finding" in e for e in report.internal_errors)
+
+
+def test_unsafe_fixes_wait_for_unsafe_fixes() -> None:
+    data = MISMATCH.read_bytes()
+    safe_only = _linter(_with(mends_nothing), ("ZZ102",), mode=DIFF)
+    fixed, report = safe_only.fixed_source(data, "a.xodr")
+    assert fixed == data and report.internal_errors == ()
+
+
+def test_unfixable_names_rules_whose_fixes_never_count() -> None:
+    registry = default_registry()
+    data = MISMATCH.read_bytes()
+    for policy in ({"unfixable": ("PT003",)}, {"fixable": ("SW",)}, {"unfixable": ("PT",)}):
+        linter = _linter(registry, ("PT003",), mode=DIFF, **policy)
+        fixed, report = linter.fixed_source(data, "a.xodr")
+        assert fixed == data, policy
+        assert report.findings[0].fix is None  # no fix is offered either
+    # the closer name wins: PT's fixes off, PT003's on
+    linter = _linter(registry, ("PT003",), mode=DIFF, fixable=("PT003",), unfixable=("PT",))
+    assert linter.fixed_source(data, "a.xodr")[0] == MISMATCH_FIXED.read_bytes()
+
+
+def test_fix_edits_are_placed_as_findings_are_numbered() -> None:
+    linter = Linter(default_registry(), LintOptions(select=("PT003",), place_fixes=True))
+    (finding,) = linter.lint_path(MISMATCH).findings
+    assert finding.fix is not None and finding.fix.applicability is Applicability.SAFE
+    (edit,) = finding.fix.edits
+    line = MISMATCH.read_text().splitlines()[edit.start_line - 1]
+    assert edit.start_line == edit.end_line == finding.line
+    assert line[edit.start_column - 1 : edit.end_column - 1] == "W23"
+    assert edit.content == "W32"
+    # without placing, a finding says only that a fix exists
+    plain = Linter(default_registry(), LintOptions(select=("PT003",)))
+    (unplaced,) = plain.lint_path(MISMATCH).findings
+    assert unplaced.fix is not None and unplaced.fix.edits == ()
+
+
+def test_fix_writes_the_file_back_keeping_its_mode(tmp_path: Path) -> None:
+    target = tmp_path / "a.xodr"
+    target.write_bytes(MISMATCH.read_bytes())
+    target.chmod(0o640)
+    linter = _linter(default_registry(), ("PT003",), mode=APPLY)
+    report = linter.lint_path(target)
+    assert report.fixed == 1 and report.error is None
+    assert target.read_bytes() == MISMATCH_FIXED.read_bytes()
+    assert stat.S_IMODE(target.stat().st_mode) == 0o640
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.xodr"]  # no temporary left
+    again = linter.lint_path(target)
+    assert again.fixed == 0 and target.read_bytes() == MISMATCH_FIXED.read_bytes()
+
+
+def test_a_read_only_file_is_not_written(tmp_path: Path) -> None:
+    target = tmp_path / "a.xodr"
+    target.write_bytes(MISMATCH.read_bytes())
+    target.chmod(0o444)
+    linter = _linter(default_registry(), ("PT003",), mode=APPLY)
+    report = linter.lint_path(target, "a.xodr")
+    assert report.error == "a.xodr: not fixed: is read-only"
+    assert target.read_bytes() == MISMATCH.read_bytes()
+    assert [f.code for f in report.findings] == ["PT003"]  # the file's, as it stays
+
+
+def test_a_file_changed_since_it_was_read_is_not_written(tmp_path: Path) -> None:
+    target = tmp_path / "a.xodr"
+    target.write_bytes(b"<OpenDRIVE/>  ")
+    with pytest.raises(WriteRefused, match="changed on disk since it was read"):
+        replace_file(target, b"<OpenDRIVE/>", b"<OpenDRIVE />")
+    assert target.read_bytes() == b"<OpenDRIVE/>  "
+
+
+def test_a_link_out_of_the_folder_walked_is_not_written(tmp_path: Path) -> None:
+    outside = tmp_path / "outside.xodr"
+    outside.write_bytes(b"<OpenDRIVE/>")
+    walked = tmp_path / "walked"
+    walked.mkdir()
+    link = walked / "a.xodr"
+    link.symlink_to(outside)
+    with pytest.raises(WriteRefused, match="link leading out of the folder walked"):
+        replace_file(link, b"<OpenDRIVE/>", b"<OpenDRIVE />", root=walked)
+    inside = walked / "b.xodr"
+    inside.write_bytes(b"<OpenDRIVE/>")
+    other = walked / "c.xodr"
+    other.symlink_to(inside)
+    replace_file(other, b"<OpenDRIVE/>", b"<OpenDRIVE />", root=walked)
+    assert other.is_symlink() and inside.read_bytes() == b"<OpenDRIVE />"
+
+
+def test_a_hostile_fix_is_the_rules_internal_error(tmp_path: Path) -> None:
+    @rule(code="ZZ103", name="bad-fix", uid="test:badfix", severity=Severity.ERROR)
+    def bad_fix(network: RailNetwork) -> Iterator[Hit]:
+        for switch in network.switches:
+            yield Hit(switch.element, "bad", fix=Fix("x", (etree.Element("x"),)))  # type: ignore[arg-type]
+
+    report = Linter(_with(bad_fix), LintOptions(select=("ZZ103",))).lint_path(MISMATCH)
+    assert report.findings == ()
+    assert report.internal_errors and "with the edit" in report.internal_errors[0]
