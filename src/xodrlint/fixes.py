@@ -12,7 +12,7 @@ spells it); an **unsafe** one changes it, and is applied only with ``--unsafe-fi
 
 # No ``from __future__ import annotations``, as in :mod:`xodrlint.findings`: lxml's types
 # stay quoted and are never imported here.
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from enum import StrEnum
 from typing import TYPE_CHECKING, NamedTuple
 
@@ -66,6 +66,22 @@ class Fix(NamedTuple):
     message: str
     edits: tuple[ElementEdit, ...]
     applicability: Applicability = Applicability.SAFE
+
+
+def moved(
+    fix: Fix | None, node_of: "Callable[[etree._Element], etree._Element | None]"
+) -> Fix | None:
+    """``fix`` with each node its edits name replaced by ``node_of``'s (a hit found on a
+    copy of the tree, put on the original); ``None`` where a node has no counterpart."""
+    if fix is None:
+        return None
+    edits: list[ElementEdit] = []
+    for edit in fix.edits:
+        node = node_of(edit[0])
+        if node is None:
+            return None
+        edits.append(type(edit)(node, *edit[1:]))
+    return fix._replace(edits=tuple(edits))
 
 
 def set_attribute(element: "etree._Element", name: str, value: str) -> SetAttribute:

@@ -239,3 +239,44 @@ def test_the_compile_started_while_parsing_has_ended_when_validation_starts(
         validators.compile_soon(Version(doc.effective.major, doc.effective.minor))
         validators.start(doc).result()
     assert alone_when_started == [True] * 50
+
+
+def test_a_hits_fix_crosses_the_fork_with_its_nodes_found_again() -> None:
+    from lxml import etree
+
+    from xodrlint.findings import Hit
+    from xodrlint.fixes import Applicability, Fix, insert_element, remove_comment, set_attribute
+
+    root = etree.fromstring("<a><!-- c --><b x='1'/><d/></a>")
+    comment, b, d = list(root)
+    fix = Fix(
+        "mend",
+        (
+            set_attribute(b, "x", "2"),
+            remove_comment(comment),
+            insert_element(d, "e", {"f": "g"}, where="before"),
+        ),
+        Applicability.UNSAFE,
+    )
+    sent = background.send_hits([Hit(b, "m", fix=fix), Hit(d, "n")], root)
+    received = background.receive_hits(sent, root)
+    assert received[0].fix == fix and received[1].fix is None
+
+
+@needs_shared
+def test_a_lane_type_in_another_case_is_mended_with_the_official_schema(tmp_path: Path) -> None:
+    from xodrlint.engine.fixing import DIFF, FixPolicy
+
+    source = (REPO / "examples" / "clean.xodr").read_text(encoding="utf-8")
+    assert 'type="rail"' in source
+    target = tmp_path / "lane.xodr"
+    target.write_text(source.replace('type="rail"', 'type="Rail "', 1), encoding="utf-8")
+    options = LintOptions(
+        select=("XS006",),
+        schema=SHARED_SCHEMAS,
+        fixes=FixPolicy(mode=DIFF),
+        place_fixes=True,
+    )
+    fixed, report = Linter(default_registry(), options).fixed_source(target.read_bytes(), "l")
+    assert report.fixed == 1 and report.findings == ()
+    assert fixed.decode() == source

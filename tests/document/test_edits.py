@@ -272,3 +272,83 @@ def test_an_edit_the_encoding_cannot_write_is_an_edit_error() -> None:
     source, _ = _source(data)
     with pytest.raises(EditError, match="cannot write"):
         source.apply([Edit(len(source.text), len(source.text), "<!-- \u0141 -->")])
+
+
+# --- the edits fixes are made of (comments, insertions, places) --------------------------
+
+STATIONS = (
+    "<OpenDRIVE>\r\n"
+    "  <!-- alone -->\r\n"
+    "  <station id='S1'> <!-- first -->  <platform id='P1'>"
+    "<segment side='left'/></platform></station>\r\n"
+    "  <station id='S2'/>  <!-- last -->\r\n"
+    "  <switch id='W'>\r\n"
+    "    <mainTrack id='1'/>\r\n"
+    "    <sideTrack id='2'><!-- a </sideTrack> in a comment --></sideTrack>\r\n"
+    "  </switch>\r\n"
+    "</OpenDRIVE>\r\n"
+)
+
+
+def _comments(root: etree._Element) -> dict[str, etree._Element]:
+    return {(c.text or "").strip(): c for c in root.iter(etree.Comment)}
+
+
+def test_a_removed_comment_takes_its_line_or_the_blanks_beside_it() -> None:
+    data = STATIONS.encode()
+    source, root = _source(data)
+    comments = _comments(root)
+    alone = source.apply([source.comment_edit(comments["alone"], None)])
+    assert alone == data.replace(b"  <!-- alone -->\r\n", b"")
+    first = source.apply([source.comment_edit(comments["first"], None)])
+    assert first == data.replace(b"<!-- first -->  ", b"")
+    last = source.apply([source.comment_edit(comments["last"], None)])
+    assert last == data.replace(b"  <!-- last -->", b"")
+
+
+def test_a_comment_rewritten_changes_only_what_differs() -> None:
+    data = b"<a><!-- xodrlint: ignore[X,\r\n Y] why --></a>"
+    source, root = _source(data)
+    (comment,) = root.iter(etree.Comment)
+    assert comment.text == " xodrlint: ignore[X,\n Y] why "
+    edit = source.comment_edit(comment, " xodrlint: ignore[X] why ")
+    assert source.apply([edit]) == b"<a><!-- xodrlint: ignore[X] why --></a>"
+    kept_break = source.comment_edit(comment, " xodrlint: ignore[X,\n Z] why ")
+    assert source.apply([kept_break]) == b"<a><!-- xodrlint: ignore[X,\r\n Z] why --></a>"
+    with pytest.raises(EditError):
+        source.comment_edit(comment, "a -- b")
+
+
+def test_an_element_is_inserted_on_its_own_line_indented_as_its_sibling() -> None:
+    data = STATIONS.encode()
+    source, root = _source(data)
+    side = root.find("switch/sideTrack")
+    assert side is not None
+    edit = source.insert_element(side, "partner", [("id", "X & Y"), ("name", "n")], "after")
+    after = source.apply([edit])
+    assert after == data.replace(
+        b"in a comment --></sideTrack>\r\n",
+        b'in a comment --></sideTrack>\r\n    <partner id="X &amp; Y" name="n"/>\r\n',
+    )
+    main = root.find("switch/mainTrack")
+    assert main is not None
+    before = source.apply([source.insert_element(main, "x", [], "before")])
+    assert before == data.replace(b"    <mainTrack", b"    <x/>\r\n    <mainTrack")
+    # an anchor that shares its line: the new element stands beside it
+    platform = root.find("station/platform")
+    assert platform is not None
+    beside = source.apply([source.insert_element(platform, "y", [], "after")])
+    assert beside == data.replace(b"</platform>", b"</platform><y/>")
+
+
+def test_an_edit_is_placed_in_lines_and_columns_as_findings_are() -> None:
+    data = codecs.BOM_UTF8 + "<a>\r\n <b c='é'/>\r<d/></a>".encode()
+    source, root = _source(data)
+    d = root.find("d")
+    b = root.find("b")
+    assert d is not None and b is not None
+    assert source.position(source.start_tag(root)[0]) == (1, 1)  # the mark is no character
+    assert source.position(source.start_tag(b)[0]) == (2, 2)
+    assert source.position(source.start_tag(d)[0]) == (3, 1)
+    placed = source.placed(source.set_attribute(b, "c", "e"))
+    assert (placed.start_line, placed.start_column, placed.end_column) == (2, 8, 9)

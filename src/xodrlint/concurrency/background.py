@@ -25,12 +25,13 @@ import threading
 import time
 from collections.abc import Callable
 from pathlib import Path
-from typing import Final, Generic, TypeVar, cast
+from typing import Any, Final, Generic, TypeVar, cast
 
 from lxml import etree
 
 from xodrlint.document.positions import TreePositions
 from xodrlint.findings import Hit
+from xodrlint.fixes import Applicability, Fix, InsertElement, ReplaceComment, SetAttribute
 
 _T = TypeVar("_T")
 
@@ -176,8 +177,18 @@ def _collect(pid: int, read_end: int, task: Callable[[], _T]) -> _T:
 #: A hit as plain values: where its element is (child indices from the root), the rest,
 #: and where its related elements are.
 SentHit = tuple[
-    tuple[int, ...] | None, str, int | None, int | None, str, tuple[tuple[int, ...] | None, ...]
+    tuple[int, ...] | None,
+    str,
+    int | None,
+    int | None,
+    str,
+    tuple[tuple[int, ...] | None, ...],
+    "SentFix | None",
 ]
+#: A fix as plain values: its message, its applicability, and each edit's kind, the
+#: position of the node it edits and its other fields.
+SentFix = tuple[str, str, tuple[tuple[object, ...], ...]]
+_EDITS: Final = {kind.__name__: kind for kind in (SetAttribute, ReplaceComment, InsertElement)}
 
 
 def start_hits(
@@ -203,9 +214,34 @@ def send_hits(hits: list[Hit], root: etree._Element) -> list[SentHit]:
             hit.column,
             hit.kind,
             tuple(_position(other, root, positions) for other in hit.related),
+            _sent_fix(hit.fix, root, positions),
         )
         for hit in hits
     ]
+
+
+def _sent_fix(fix: Fix | None, root: etree._Element, positions: TreePositions) -> SentFix | None:
+    if fix is None:
+        return None
+    edits = tuple(
+        (type(edit).__name__, _position(edit[0], root, positions), *edit[1:]) for edit in fix.edits
+    )
+    return fix.message, str(fix.applicability), edits
+
+
+def _received_fix(
+    sent: SentFix | None, found: Callable[[tuple[int, ...] | None], etree._Element | None]
+) -> Fix | None:
+    if sent is None:
+        return None
+    message, applicability, sent_edits = sent
+    edits = []
+    for kind, position, *fields in sent_edits:
+        node = found(position)  # type: ignore[arg-type]
+        if node is None:
+            return None
+        edits.append(cast("Any", _EDITS[str(kind)])(node, *fields))
+    return Fix(message, tuple(edits), Applicability(applicability))
 
 
 def receive_hits(sent: list[SentHit], root: etree._Element) -> list[Hit]:
@@ -224,8 +260,9 @@ def receive_hits(sent: list[SentHit], root: etree._Element) -> list[Hit]:
             column=column,
             kind=kind,
             related=tuple(e for e in map(found, others) if e is not None),
+            fix=_received_fix(fix, found),
         )
-        for position, message, line, column, kind, others in sent
+        for position, message, line, column, kind, others, fix in sent
     ]
 
 

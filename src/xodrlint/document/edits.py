@@ -248,11 +248,17 @@ class EditableSource:
             line_start = _line_start(self.text, start)
             line_end = _line_end(self.text, end)
             blank = " \t"
-            if not self.text[line_start:start].strip(blank) and not self.text[end:line_end].strip(
-                blank
-            ):
-                return Edit(line_start, _after_break(self.text, line_end), "")
-            return Edit(start, end, "")
+            before = self.text[line_start:start]
+            if not self.text[end:line_end].strip(blank):
+                if not before.strip(blank):  # alone on its line: the line goes
+                    return Edit(line_start, _after_break(self.text, line_end), "")
+                # last on its line: the blanks before it go, no trailing blank is left
+                return Edit(start - (len(before) - len(before.rstrip(blank))), line_end, "")
+            # markup follows on its line: the blanks after it go, the indentation stays
+            after = end
+            while after < line_end and self.text[after] in blank:
+                after += 1
+            return Edit(start, after, "")
         if "--" in text or text.endswith("-") or _NOT_XML.search(text) or not self._holds(text):
             raise EditError("the text cannot stand in a comment of this file")
         raw = self.text[start + 4 : end - 3]

@@ -19,6 +19,7 @@ from lxml import etree
 from xodrlint.document.load import Document
 from xodrlint.document.positions import document_comments
 from xodrlint.findings import Hit
+from xodrlint.fixes import Fix, remove_comment, replace_comment
 
 DIRECTIVE: Final = re.compile(
     r"^\s*xodrlint:\s*(?P<scope>ignore-file|ignore)\s*\[(?P<codes>[^\]]*)\]\s*(?P<reason>.*?)\s*$",
@@ -164,7 +165,27 @@ def unused_hits(
             f"withholds no finding ({shown})",
             line=line,
             column=column,
+            fix=_without(directive, idle),
         )
+
+
+def _without(directive: Directive, idle: tuple[str, ...]) -> Fix:
+    """XL001's fix: the idle entries taken out of the comment, or the whole comment (and
+    its line, where it stood alone there) when none is left."""
+    comment = directive.comment
+    kept = [selector for selector in directive.selectors if selector not in idle]
+    match = DIRECTIVE.match(comment.text or "")
+    if not kept or match is None:
+        return Fix("remove the suppression comment", (remove_comment(comment),))
+    text = comment.text or ""
+    entries = match["codes"].split(",")
+    remaining = [entry for entry in entries if entry.strip() not in idle or not entry.strip()]
+    codes = ",".join(remaining)
+    if entries[0].strip() in idle:  # the first entry went: no blank before the new first
+        codes = codes.lstrip()
+    rewritten = text[: match.start("codes")] + codes + text[match.end("codes") :]
+    removed = ", ".join(idle)
+    return Fix(f"remove {removed} from the suppression", (replace_comment(comment, rewritten),))
 
 
 def _holder(doc: Document, directive: Directive) -> etree._Element | None:

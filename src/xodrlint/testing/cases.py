@@ -64,10 +64,30 @@ class RuleCase:
         return f"{self.code}/{self.path.name}"
 
 
+def case_text(path: Path) -> str:
+    """A case's text: UTF-16 or UTF-32 where a byte order mark says so (a case of an
+    encoding), else UTF-8; every line break a newline."""
+    import codecs
+
+    data = path.read_bytes()
+    codec = "utf-8-sig"
+    for mark, name in (
+        (codecs.BOM_UTF32_LE, "utf-32"),
+        (codecs.BOM_UTF32_BE, "utf-32"),
+        (codecs.BOM_UTF16_LE, "utf-16"),
+        (codecs.BOM_UTF16_BE, "utf-16"),
+    ):
+        if data.startswith(mark):
+            codec = name
+            break
+    text = data.decode(codec, errors="replace")
+    return text.replace("\r\n", "\n").replace("\r", "\n")
+
+
 def read_case(path: Path) -> RuleCase:
     """The case in ``path``; its selection from the folder's ``rule.toml`` if any."""
     expected: list[tuple[int, str]] = []
-    lines = path.read_bytes().decode("utf-8", errors="replace").splitlines()
+    lines = case_text(path).splitlines()
     for number, text in enumerate(lines, start=1):
         for match in EXPECT.finditer(text):
             alone = text[: match.start()].strip() == ""

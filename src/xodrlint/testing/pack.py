@@ -20,6 +20,7 @@ from xodrlint.testing.cases import (
     FIXED_SUFFIX,
     SELECTION_FILE,
     RuleCase,
+    case_text,
     cases_in,
     find_cases,
     fixed_output,
@@ -176,14 +177,18 @@ class RulePack:
     def docstring_problems(self, meta: RuleMeta) -> list[str]:
         """What the rule's doc page (its module docstring) lacks."""
         folder = self.cases_root / meta.code
-        texts = {
-            p.name: p.read_text(encoding="utf-8")
-            for p in folder.glob(f"*{CASE_SUFFIX}")
-            if is_case(p)
-        }
+        cases = [p for p in folder.glob(f"*{CASE_SUFFIX}") if is_case(p)]
+        texts = {p.name: case_text(p) for p in cases}
         invalid = [text for name, text in texts.items() if name.startswith("invalid_")]
         valid = [text for name, text in texts.items() if name.startswith("valid_")]
-        return docstring_problems(meta, invalid, valid)
+        problems = docstring_problems(meta, invalid, valid)
+        fixed = any(fixed_output(p).is_file() for p in cases)
+        says = meta.section("Fix") is not None
+        if fixed and not says:
+            problems.append(f"{meta.code}: its cases have fixes; a 'Fix' section must say which")
+        if says and not fixed:
+            problems.append(f"{meta.code}: has a 'Fix' section but no case a fix mends")
+        return problems
 
     def coverage_problems(self) -> list[str]:
         """Rules without a valid_ and an invalid_ case, and case folders without a rule."""

@@ -7,7 +7,7 @@ from collections.abc import Iterable
 from pathlib import Path
 
 from xodrlint.findings import RuleMeta
-from xodrlint.testing.cases import RuleCase
+from xodrlint.testing.cases import RuleCase, case_text, fixed_output
 
 
 def render_page(meta: RuleMeta, cases: Iterable[RuleCase], root: Path) -> str:
@@ -55,5 +55,23 @@ def render_page(meta: RuleMeta, cases: Iterable[RuleCase], root: Path) -> str:
             else ", ".join(f"{code} at line {line}" for line, code in case.expected)
         )
         lines += [f"### `{relative}`", "", f"Expected: {verdict}.", "", "```xml"]
-        lines += [case.path.read_text(encoding="utf-8", errors="replace").rstrip("\n"), "```", ""]
+        lines += [case_text(case.path).rstrip("\n"), "```", ""]
+        fixed = fixed_output(case.path)
+        if fixed.is_file():
+            lines += [
+                f"Fixed (`{fixed.relative_to(root).as_posix()}`):",
+                "",
+                "```diff",
+                _diff(case_text(case.path), case_text(fixed)),
+                "```",
+                "",
+            ]
     return "\n".join(lines).rstrip("\n") + "\n"
+
+
+def _diff(before: str, after: str) -> str:
+    """The changed lines, each with one line of context (no file header)."""
+    import difflib
+
+    lines = difflib.unified_diff(before.splitlines(), after.splitlines(), n=1, lineterm="")
+    return "\n".join(line for line in lines if not line.startswith(("---", "+++")))

@@ -20,9 +20,15 @@ from lxml import etree
 from xodrlint.document.load import Document
 from xodrlint.document.positions import TreePositions, parser_line
 from xodrlint.findings import CHILD_KINDS, Hit
+from xodrlint.fixes import moved
 from xodrlint.validation.identities import FirstHolders, key_fields, selector_of
 from xodrlint.validation.libxml2_direct import SchemaError, direct_schema
-from xodrlint.validation.messages import Explained, TypeCatalog, explain_libxml2
+from xodrlint.validation.messages import (
+    Explained,
+    TypeCatalog,
+    enumeration_fix,
+    explain_libxml2,
+)
 from xodrlint.validation.sets import SchemaLoadError, SchemaSet
 from xodrlint.validation.source import XS, CopyNames, read_schema_source
 
@@ -230,7 +236,7 @@ def _on_originals(
         ):
             continue
         related = tuple(originals[other] for other in hit.related if other in originals)
-        yield hit._replace(element=element, related=related)
+        yield hit._replace(element=element, related=related, fix=moved(hit.fix, originals.get))
 
 
 def _reference_hits(references: Iterable[etree._Entity]) -> Iterator[Hit]:
@@ -350,7 +356,8 @@ class BuiltinRailroadValidator:
             original = originals.get(hit.element) if hit.element is not None else None
             related = tuple(originals[copy] for copy in hit.related if copy in originals)
             if original is not None:
-                yield hit._replace(element=original, related=related)
+                fix = moved(hit.fix, originals.get)
+                yield hit._replace(element=original, related=related, fix=fix)
 
 
 def _maybe_repeated(root: etree._Element) -> list[tuple[etree._Element, str]]:
@@ -403,6 +410,7 @@ def errors_to_hits(
             line=None if element is not None else line,
             kind=why.kind,
             related=(first,) if first is not None else (),
+            fix=enumeration_fix(element, why) if element is not None else None,
         )
 
 

@@ -14,6 +14,7 @@ from typing import Final, NamedTuple
 from lxml import etree
 
 from xodrlint.findings import NO_ENTRIES
+from xodrlint.fixes import Fix, set_attribute
 from xodrlint.validation.source import XS
 
 _ENUM_SHOWN: Final = 12
@@ -204,6 +205,10 @@ class Explained(NamedTuple):
     element: str | None
     key_values: tuple[str, ...] = ()
     constraint: str | None = None
+    attribute: str | None = None
+    """The attribute the error is about, where it is about one."""
+    allowed: tuple[str, ...] = ()
+    """An enumeration's values, every one (the message shows the first few)."""
 
 
 def explain_libxml2(raw: str, catalog: TypeCatalog, version: str | None) -> Explained:
@@ -225,6 +230,8 @@ def explain_libxml2(raw: str, catalog: TypeCatalog, version: str | None) -> Expl
             element,
             _key_values(fields.get("v", "")) if kind in ("keyref", "duplicate") else (),
             fields.get("k"),
+            attr,
+            tuple(_enumeration(fields["set"])) if kind == "enumeration" else (),
         )
     if re.match(_ABSTRACT, body):
         # the element's declared type is abstract and nothing chose a concrete one; libxml2
@@ -245,8 +252,7 @@ def _render(
 ) -> str:
     in_version = f" in OpenDRIVE {version}" if version else ""
     if kind == "enumeration":
-        allowed = re.findall(r"'((?:[^']|'')*)'", f["set"])
-        return f"{where} is '{f['v']}', expected one of {quoted_list(allowed)}"
+        return f"{where} is '{f['v']}', expected one of {quoted_list(_enumeration(f['set']))}"
     if kind == "type":
         description = catalog.describe(f["type"])
         expectation = f"expected {description}" if description else f"not a valid '{f['type']}'"
@@ -287,6 +293,48 @@ def _render(
     if kind == "pattern":
         return f"{where} is '{f['v']}', expected a value matching {f['p']}"
     return f"{where} is '{f['v']}', but the schema{in_version} fixes it to '{f['fixed']}'"
+
+
+def _enumeration(values: str) -> list[str]:
+    """The values of libxml2's ``{'a', 'b'}``."""
+    return re.findall(r"'((?:[^']|'')*)'", values)
+
+
+#: The elements whose enumerated attributes XS006 mends (a value written in another case,
+#: or with blanks around it): the railroad elements, and a lane's type.
+_MENDED_ENUMERATIONS: Final = frozenset(
+    {
+        ("switch", "position"),
+        ("mainTrack", "dir"),
+        ("sideTrack", "dir"),
+        ("station", "type"),
+        ("segment", "side"),
+        ("lane", "type"),
+    }
+)
+
+
+def enumeration_fix(element: etree._Element, why: Explained) -> Fix | None:
+    """XS006's fix of an enumerated attribute whose value is exactly one allowed value
+    when compared without case and surrounding blanks (``position="Dynamic"``): that
+    value. Only for the railroad elements' enumerations and a lane's ``type``."""
+    attribute = why.attribute
+    if why.kind != "enumeration" or attribute is None:
+        return None
+    tag = etree.QName(element).localname
+    if (tag, attribute) not in _MENDED_ENUMERATIONS:
+        return None
+    value = element.get(attribute)
+    if value is None:
+        return None
+    wanted = value.strip().casefold()
+    matches = [allowed for allowed in why.allowed if allowed.casefold() == wanted]
+    if len(matches) != 1 or matches[0] == value:
+        return None
+    return Fix(
+        f"write '{matches[0]}', as the standard spells it",
+        (set_attribute(element, attribute, matches[0]),),
+    )
 
 
 def missing_reference_message(

@@ -38,6 +38,11 @@ Use instead:
   </station>
 ```
 
+## Fix
+Safe: `xodrlint check --fix` takes the idle entries out of the comment, or removes the
+whole comment when no entry is left (and its line, when it stood alone there; the blanks
+beside it, when it shared the line with other markup).
+
 ## Related rules
 Every rule's findings can be withheld by a suppression comment; XL001 judges the entries
 naming the rules that ran. An entry that names XL001 itself (`XL001`, `XL`,

@@ -31,6 +31,13 @@ Use instead:
       <switch name="W1" id="101" position="dynamic">
 ```
 
+## Fix
+Safe, for one kind of error: an enumerated attribute of a railroad element
+(`switch/@position`, `mainTrack/@dir`, `sideTrack/@dir`, `station/@type`,
+`segment/@side`) or a lane's `@type` whose value equals exactly one allowed value when
+compared without case and surrounding blanks (`position="Dynamic"`, `side=" left"`):
+`xodrlint check --fix` writes that value. Every other schema error has no fix.
+
 ## Related rules
 An XSD key, keyref or missing-child error about a railroad element is reported once, by
 the specific rule, not as XS006: a keyref on `mainTrack`/`sideTrack` by SW004, on

@@ -37,6 +37,10 @@ Use instead:
 </switch>
 ```
 
+## Fix
+Safe: `xodrlint check --fix` sets `partner/@name` to the `@name` of the switch that
+`partner/@id` names (only where that switch has a name).
+
 ## Related rules
 Stands alone: a wrong partner name is its own defect, also when another rule reports the
 same partner. PT001 reports a partner id that names no switch (PT003 cannot compare then).
