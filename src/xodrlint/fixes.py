@@ -12,7 +12,7 @@ spells it); an **unsafe** one changes it, and is applied only with ``--unsafe-fi
 
 # No ``from __future__ import annotations``, as in :mod:`xodrlint.findings`: lxml's types
 # stay quoted and are never imported here.
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from enum import StrEnum
 from typing import TYPE_CHECKING, NamedTuple
 
@@ -45,14 +45,16 @@ class ReplaceComment(NamedTuple):
 
 
 class InsertElement(NamedTuple):
-    """Insert an empty element ``<tag a="v"/>`` ``where`` (``after`` or ``before``)
+    """Insert an element ``<tag a="v"/>`` ``where`` (``after`` or ``before``)
     ``anchor``, on a line of its own indented as ``anchor`` is (beside it, when
-    ``anchor`` shares its line with other markup)."""
+    ``anchor`` shares its line with other markup). ``children`` are empty elements it
+    holds, each as ``(tag, attributes)``, one a line, indented one step further."""
 
     anchor: "etree._Element"
     tag: str
     attributes: tuple[tuple[str, str], ...]
     where: str = "after"
+    children: tuple[tuple[str, tuple[tuple[str, str], ...]], ...] = ()
 
 
 ElementEdit = SetAttribute | ReplaceComment | InsertElement
@@ -105,12 +107,15 @@ def insert_element(
     attributes: Mapping[str, str],
     *,
     where: str = "after",
+    children: Sequence[tuple[str, Mapping[str, str]]] = (),
 ) -> InsertElement:
     """The edit that inserts ``<tag .../>`` with ``attributes`` (in their order) after
-    or before ``anchor``."""
+    or before ``anchor``; with ``children``, ``<tag ...>`` holding those empty elements
+    (``<link><predecessor .../></link>``)."""
     if where not in PLACES:
         raise ValueError(f"where={where!r}: one of {', '.join(PLACES)}")
-    return InsertElement(anchor, tag, tuple(attributes.items()), where)
+    held = tuple((child, tuple(values.items())) for child, values in children)
+    return InsertElement(anchor, tag, tuple(attributes.items()), where, held)
 
 
 class TextEdit(NamedTuple):

@@ -81,7 +81,7 @@ RECORDED: dict[str, list[str] | None] = {
     "centre_terms": ["road", "section", "section_start", "lane"],
     "collect": ["package"],
     "extremes": ["terms", "start", "end"],
-    "insert_element": ["anchor", "tag", "attributes", "where"],
+    "insert_element": ["anchor", "tag", "attributes", "where", "children"],
     "integer": ["element", "attribute"],
     "lane_width": ["lane", "section_start"],
     "non_finite": ["element", "attribute"],

@@ -276,23 +276,57 @@ class EditableSource:
         tag: str,
         attributes: Sequence[tuple[str, str]],
         where: str,
+        children: Sequence[tuple[str, Sequence[tuple[str, str]]]] = (),
     ) -> Edit:
-        """The edit that inserts ``<tag a="v"/>`` after or before ``anchor``: on a line of
-        its own indented as ``anchor``, where ``anchor`` starts its line; else beside it."""
-        for name in (tag, *(name for name, _ in attributes)):
-            if _NAME.fullmatch(name) is None or not self._holds(name):
-                raise EditError(f"'{name}' is no name this file can hold")
-        written = "".join(f' {name}="{self.escaped(value, chr(34))}"' for name, value in attributes)
-        markup = f"<{tag}{written}/>"
+        """The edit that inserts ``<tag a="v"/>`` (holding ``children``, one a line) after
+        or before ``anchor``: on a line of its own indented as ``anchor``, where
+        ``anchor`` starts its line; else beside it."""
         start, _ = self.start_tag(anchor)
         line_start = _line_start(self.text, start)
         indent = self.text[line_start:start]
         alone = not indent.strip(" \t")
-        line_break = self._line_break(start)
+        line_break = self._line_break(start) if alone else ""
+        if not alone:
+            indent = ""
+        if children:
+            inner = indent + self._indent_step(anchor)
+            held = "".join(
+                f"{line_break}{inner}{self._empty_element(child, values)}"
+                for child, values in children
+            )
+            markup = (
+                f"{self._empty_element(tag, attributes)[:-2]}>{held}{line_break}{indent}</{tag}>"
+            )
+        else:
+            markup = self._empty_element(tag, attributes)
         if where == "before":
-            return Edit(start, start, markup + line_break + indent if alone else markup)
+            return Edit(start, start, markup + line_break + indent)
         at = self.element_end(anchor)
-        return Edit(at, at, line_break + indent + markup if alone else markup)
+        return Edit(at, at, line_break + indent + markup)
+
+    def _empty_element(self, tag: str, attributes: Sequence[tuple[str, str]]) -> str:
+        for name in (tag, *(name for name, _ in attributes)):
+            if _NAME.fullmatch(name) is None or not self._holds(name):
+                raise EditError(f"'{name}' is no name this file can hold")
+        written = "".join(f' {name}="{self.escaped(value, chr(34))}"' for name, value in attributes)
+        return f"<{tag}{written}/>"
+
+    def _indent_step(self, element: etree._Element) -> str:
+        """How much deeper the file indents a child than its parent: ``element``'s
+        indentation less its parent's, where both stand alone on their lines; else two
+        blanks."""
+        parent = element.getparent()
+        if parent is None:
+            return "  "
+        own, above = self._indentation(element), self._indentation(parent)
+        if own is not None and above is not None and own.startswith(above) and own != above:
+            return own[len(above) :]
+        return "  "
+
+    def _indentation(self, element: etree._Element) -> str | None:
+        start, _ = self.start_tag(element)
+        before = self.text[_line_start(self.text, start) : start]
+        return before if not before.strip(" \t") else None
 
     def _line_break(self, offset: int) -> str:
         """The line break the file uses near ``offset``: that of the line before it, or
@@ -334,7 +368,11 @@ class EditableSource:
             elif isinstance(edit, ReplaceComment):
                 made.append(self.comment_edit(edit.comment, edit.text))
             elif isinstance(edit, InsertElement):
-                made.append(self.insert_element(edit.anchor, edit.tag, edit.attributes, edit.where))
+                made.append(
+                    self.insert_element(
+                        edit.anchor, edit.tag, edit.attributes, edit.where, edit.children
+                    )
+                )
             else:
                 raise EditError(f"{type(edit).__name__} is no edit")
         if overlapping(made):

@@ -139,8 +139,23 @@ def _check_fix(fix: object, root: etree._Element | None) -> None:
                 isinstance(pair, tuple) and len(pair) == 2 for pair in pairs
             ):
                 raise RuleOutputError(f"yielded an insertion whose attributes are {_shown(pairs)}")
+            held = edit.children
+            if not isinstance(held, tuple) or not all(
+                isinstance(child, tuple)
+                and len(child) == 2
+                and isinstance(child[1], tuple)
+                and all(isinstance(pair, tuple) and len(pair) == 2 for pair in child[1])
+                for child in held
+            ):
+                raise RuleOutputError(f"yielded an insertion whose children are {_shown(held)}")
             node = edit.anchor
-            texts = (edit.tag, edit.where, *(text for pair in pairs for text in pair))
+            texts = (
+                edit.tag,
+                edit.where,
+                *(text for pair in pairs for text in pair),
+                *(child[0] for child in held),
+                *(text for child in held for pair in child[1] for text in pair),
+            )
         else:
             raise RuleOutputError(f"yielded a fix with the edit {_shown(edit)}")
         if not all(type(text) is str for text in texts):

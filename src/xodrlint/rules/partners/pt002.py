@@ -36,6 +36,11 @@ Use instead:
 </switch>
 ```
 
+## Fix
+Unsafe: where the answering switch names no partner at all, `xodrlint check --fix
+--unsafe-fixes` adds `<partner id=".." name=".."/>` naming this switch to it, after its
+tracks and indented as they are. A partner it names already is never replaced.
+
 ## Related rules
 Last in the chain on a `partner`: PT001 (unknown id), PT005 (the switch itself), SW002
 (single switch) and PT004 (different side tracks) report first, and PT002 stays silent on
@@ -50,7 +55,16 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from xodrlint.rules import Hit, RailNetwork, Severity, rule
+from xodrlint.rules import (
+    Applicability,
+    Fix,
+    Hit,
+    RailNetwork,
+    Severity,
+    Switch,
+    insert_element,
+    rule,
+)
 from xodrlint.rules._shared import quoted
 from xodrlint.rules.partners._pairs import partner_of
 
@@ -75,4 +89,24 @@ def partner_not_reciprocal(network: RailNetwork) -> Iterator[Hit]:
                 switch.partner.element,
                 f"switch {quoted(switch.id)} names '{other.id}' as partner, but '{other.id}' "
                 f"names {quoted(answer) if other.partner is not None else 'no partner'}",
+                fix=_answer(other, switch) if other.partner is None else None,
             )
+
+
+def _answer(answering: Switch, switch: Switch) -> Fix | None:
+    """``<partner id=".." name=".."/>`` naming ``switch``, added to ``answering`` after
+    its tracks (where the schema wants it), indented as they are; never where it names
+    a partner already."""
+    if switch.id is None:
+        return None
+    tracks = [child for child in answering.element if child.tag in ("mainTrack", "sideTrack")]
+    if not tracks:
+        return None
+    attributes = {"id": switch.id}
+    if switch.name is not None:
+        attributes["name"] = switch.name
+    return Fix(
+        f"add the answering partner to switch '{answering.id}'",
+        (insert_element(tracks[-1], "partner", attributes),),
+        Applicability.UNSAFE,
+    )

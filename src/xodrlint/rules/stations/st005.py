@@ -35,6 +35,11 @@ Use instead:
   millimetres. Configuration: `s-tolerance = 0.0005` in `[tool.xodrlint]`; command
   line: `--rule-option s-tolerance=0.0005`.
 
+## Fix
+Unsafe: `xodrlint check --fix --unsafe-fixes` swaps `@sStart` and `@sEnd` (as written)
+and mirrors `@side` (left and right; `both` stays): the segment is then written along
+increasing s, and the platform stays on the side of the track where it stands.
+
 ## Related rules
 ST006 reports a segment whose ends coincide; ST011 compares segments by the s range they
 cover whichever way round they are written. An end that is no finite number (`NaN`,
@@ -49,7 +54,18 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from xodrlint.rules import Hit, RailNetwork, Settings, Severity, rule
+from lxml import etree
+
+from xodrlint.rules import (
+    Applicability,
+    Fix,
+    Hit,
+    RailNetwork,
+    Settings,
+    Severity,
+    rule,
+    set_attribute,
+)
 from xodrlint.rules._shared import S_TOLERANCE_OPTION, metres, quoted
 from xodrlint.rules.stations._walk import segments_with_platform
 
@@ -70,4 +86,24 @@ def segment_s_reversed(network: RailNetwork, settings: Settings) -> Iterator[Hit
                 segment.element,
                 f"segment of platform {quoted(platform.id)} starts at sStart={metres(start)}, "
                 f"after its end sEnd={metres(end)}",
+                fix=_swapped(segment.element),
             )
+
+
+#: The side a platform stands on, seen from the other direction of travel.
+_MIRRORED = {"left": "right", "right": "left"}
+
+
+def _swapped(segment: etree._Element) -> Fix | None:
+    """``sStart`` and ``sEnd`` swapped, as written, and ``side`` mirrored (left and right
+    are said along increasing s, so the platform stays where it stands)."""
+    start, end = segment.get("sStart"), segment.get("sEnd")
+    if start is None or end is None:
+        return None
+    edits = [set_attribute(segment, "sStart", end), set_attribute(segment, "sEnd", start)]
+    side = segment.get("side")
+    mirrored = _MIRRORED.get(side) if side is not None else None
+    if mirrored is not None:
+        edits.append(set_attribute(segment, "side", mirrored))
+    what = " and mirror its side" if mirrored else ""
+    return Fix(f"swap sStart and sEnd{what}", tuple(edits), Applicability.UNSAFE)

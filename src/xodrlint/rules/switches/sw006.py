@@ -37,6 +37,12 @@ Use instead:
   millimetres. Configuration: `s-tolerance = 0.0005` in `[tool.xodrlint]`; command
   line: `--rule-option s-tolerance=0.0005`.
 
+## Fix
+Unsafe: `xodrlint check --fix --unsafe-fixes` moves `sideTrack/@s` to the nearer end of
+the side track's road (0, or the road's `@length` as written) and sets `@dir` to the
+direction that leads onto the road from there (`+` at its start, `-` at its end). A side
+track halfway along its road gets no fix.
+
 ## Related rules
 SW004 (unknown road) and SW005 (s outside the road, or no finite number such as `INF`)
 report first; SW006 stays silent on a side track they report.
@@ -50,7 +56,18 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from xodrlint.rules import Hit, RailNetwork, Settings, Severity, rule
+from xodrlint.rules import (
+    Applicability,
+    Fix,
+    Hit,
+    RailNetwork,
+    Road,
+    Settings,
+    Severity,
+    TrackRef,
+    rule,
+    set_attribute,
+)
 from xodrlint.rules._shared import S_TOLERANCE_OPTION, quoted
 from xodrlint.rules.switches._tracks import named_road, side_track_problem
 
@@ -73,5 +90,33 @@ def side_track_not_at_end(network: RailNetwork, settings: Settings) -> Iterator[
             if side is not None and road is not None
             else None
         )
-        if side is not None and problem is not None:
-            yield Hit(side.element, f"side track of switch {quoted(switch.id)} {problem}")
+        if side is not None and road is not None and problem is not None:
+            yield Hit(
+                side.element,
+                f"side track of switch {quoted(switch.id)} {problem}",
+                fix=_to_the_nearer_end(road, side, tolerance),
+            )
+
+
+def _to_the_nearer_end(road: Road, side: TrackRef, tolerance: float) -> Fix | None:
+    """The side track moved to the nearer end of its road (``s`` 0, or the road's length
+    as the road writes it) and pointed onto the road from there (``+`` at its start,
+    ``-`` at its end); none where both ends are as near."""
+    length, s = road.length, side.s
+    if length is None or s is None or abs(s - length / 2) <= tolerance:
+        return None
+    at_start = s < length / 2
+    position = "0" if at_start else road.element.get("length", "")
+    direction = "+" if at_start else "-"
+    edits = []
+    if abs(s - (0.0 if at_start else length)) > tolerance:
+        edits.append(set_attribute(side.element, "s", position))
+    if side.dir != direction:
+        edits.append(set_attribute(side.element, "dir", direction))
+    end = "start" if at_start else "end"
+    return Fix(
+        f"put the side track at the {end} of road '{road.id}' (s={position}), pointing "
+        f"'{direction}'",
+        tuple(edits),
+        Applicability.UNSAFE,
+    )

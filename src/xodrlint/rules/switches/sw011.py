@@ -42,6 +42,11 @@ Use instead:
   millimetres. Configuration: `s-tolerance = 0.0005` in `[tool.xodrlint]`; command
   line: `--rule-option s-tolerance=0.0005`.
 
+## Fix
+Unsafe: `xodrlint check --fix --unsafe-fixes` moves `mainTrack/@s` to the s on the main
+track whose track point is nearest the side track's track point, when the two are then
+within `switch-tolerance`; a side track that does not reach the main track gets no fix.
+
 ## Related rules
 SW003, SW004, SW005 and SW006 report a switch whose tracks name the wrong road, no road,
 a position off the road or a side track that does not begin or end at the switch; SW011
@@ -56,12 +61,28 @@ bad values).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
-from typing import Final
+from typing import TYPE_CHECKING, Final
 
-from xodrlint.rules import Hit, RailNetwork, RuleOption, Settings, Severity, rule
+from xodrlint.rules import (
+    Applicability,
+    Fix,
+    Hit,
+    RailNetwork,
+    Road,
+    RuleOption,
+    Settings,
+    Severity,
+    Switch,
+    rule,
+    set_attribute,
+)
 from xodrlint.rules._shared import S_TOLERANCE, S_TOLERANCE_OPTION, beyond, metres, point, quoted
 from xodrlint.rules.switches._geometry import switches_with_points
+
+if TYPE_CHECKING:
+    from xodrlint.rules.geometry import TrackGeometry, TrackPoint
 
 TOLERANCE: Final = RuleOption(
     name="switch-tolerance",
@@ -94,4 +115,61 @@ def switch_tracks_apart(network: RailNetwork, settings: Settings) -> Iterator[Hi
                 f"s={metres(switch.main_track.s or 0.0)} "
                 f"(main track at {point(main.x, main.y)}, side track at "
                 f"{point(side.x, side.y)})",
+                fix=_moved_main_track(network, switch, side, tolerance),
             )
+
+
+#: The nearest point is first sought among points this far apart (m) along the main
+#: track, then refined between the two beside the best.
+_STEP: Final = 0.5
+_REFINED: Final = 60
+
+
+def _moved_main_track(
+    network: RailNetwork, switch: Switch, side: TrackPoint, tolerance: float
+) -> Fix | None:
+    """``mainTrack/@s`` := the s whose track point on the main track is nearest the side
+    track's, where the two are then within ``switch-tolerance``; else no fix (the side
+    track does not reach the main track at all)."""
+    from xodrlint.rules.geometry import TrackGeometry
+
+    main_track = switch.main_track
+    road = network.road_by_id.get(main_track.road_id or "") if main_track else None
+    if main_track is None or road is None or road.length is None:
+        return None
+    tracks = network.shared(TrackGeometry)
+    nearest = _nearest_s(tracks, road, side)
+    if nearest is None:
+        return None
+    written = f"{nearest:.6f}".rstrip("0").rstrip(".")
+    moved = tracks.point(road, float(written))
+    if moved is None or moved.distance_to(side) > tolerance:
+        return None
+    return Fix(
+        f"move the switch to s={written} on road '{road.id}', where the side track starts",
+        (set_attribute(main_track.element, "s", written),),
+        Applicability.UNSAFE,
+    )
+
+
+def _nearest_s(tracks: TrackGeometry, road: Road, target: TrackPoint) -> float | None:
+    """The s of ``road`` whose track point is nearest ``target``."""
+    length = road.length or 0.0
+    count = max(1, math.ceil(length / _STEP))
+
+    def distance(s: float) -> float:
+        found = tracks.point(road, s)
+        return math.inf if found is None else found.distance_to(target)
+
+    samples = [length * i / count for i in range(count + 1)]
+    best = min(range(len(samples)), key=lambda i: distance(samples[i]))
+    if distance(samples[best]) == math.inf:
+        return None
+    low, high = samples[max(best - 1, 0)], samples[min(best + 1, count)]
+    for _ in range(_REFINED):  # a golden-section search would take fewer; this is plain
+        first, second = low + (high - low) / 3, high - (high - low) / 3
+        if distance(first) <= distance(second):
+            high = second
+        else:
+            low = first
+    return (low + high) / 2

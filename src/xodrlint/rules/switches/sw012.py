@@ -44,6 +44,11 @@ Use instead:
   millimetres. Configuration: `s-tolerance = 0.0005` in `[tool.xodrlint]`; command
   line: `--rule-option s-tolerance=0.0005`.
 
+## Fix
+Unsafe: `xodrlint check --fix --unsafe-fixes` flips the main track's `@dir`, when the
+flip brings the two directions within `switch-angle`. The side track's `@dir` is the one
+its road end dictates (SW006 reports it otherwise), so the main track's is the wrong one.
+
 ## Related rules
 SW003, SW004, SW005 and SW006 report a switch whose tracks cannot be judged; SW012 stays
 silent on it. SW011 reports tracks that do not meet at the switch; their directions are
@@ -61,7 +66,18 @@ import math
 from collections.abc import Iterator
 from typing import Final
 
-from xodrlint.rules import Hit, RailNetwork, RuleOption, Settings, Severity, rule
+from xodrlint.rules import (
+    Applicability,
+    Fix,
+    Hit,
+    RailNetwork,
+    RuleOption,
+    Settings,
+    Severity,
+    TrackRef,
+    rule,
+    set_attribute,
+)
 from xodrlint.rules._shared import S_TOLERANCE, S_TOLERANCE_OPTION, beyond, degrees, metres, quoted
 from xodrlint.rules.switches._geometry import switches_with_points
 from xodrlint.rules.switches.sw011 import TOLERANCE
@@ -104,4 +120,21 @@ def switch_direction_mismatch(network: RailNetwork, settings: Settings) -> Itera
                 f"'{main.road_id}' at s={metres(main.s or 0.0)} runs {degrees(entering)} "
                 f"degrees ('{main.dir}'), side track '{side.road_id}' at "
                 f"s={metres(side.s or 0.0)} runs {degrees(leaving)} degrees ('{side.dir}')",
+                fix=_flipped(main, entering + math.pi, leaving, limit),
             )
+
+
+def _flipped(main: TrackRef, flipped: float, leaving: float, limit: float) -> Fix | None:
+    """The main track's ``dir`` flipped, where that brings the two directions within
+    ``switch-angle``. The side track's ``dir`` is the one its road end dictates (SW006
+    holds here: '+' at its start, '-' at its end), so the main track's is the wrong one."""
+    from xodrlint.rules.geometry import turn_beyond
+
+    if turn_beyond(flipped, leaving, limit) is not None:
+        return None
+    direction = "-" if main.dir == "+" else "+"
+    return Fix(
+        f"let the main track point '{direction}'",
+        (set_attribute(main.element, "dir", direction),),
+        Applicability.UNSAFE,
+    )

@@ -5,9 +5,9 @@ TR007)."""
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
-from xodrlint.rules import Hit, RailNetwork
+from xodrlint.rules import Fix, Hit, RailNetwork
 from xodrlint.rules.tracks._joints import Joint, TrackLink, find_joints, judged_links
 from xodrlint.rules.tracks._lane_links import LaneLinkTarget, lane_link_targets
 
@@ -27,13 +27,19 @@ def track_network(network: RailNetwork) -> TrackNetwork:
     return network.shared(TrackNetwork)
 
 
-def link_faults(network: RailNetwork, fault: str) -> Iterator[Hit]:
+def link_faults(
+    network: RailNetwork, fault: str, fix: Callable[[TrackLink], Fix | None] | None = None
+) -> Iterator[Hit]:
     """A finding on each link of a track that is wrong by the rule ``fault`` names and
-    is reported on that link (TR003, TR004, TR005)."""
+    is reported on that link (TR003, TR004, TR005), with the fix ``fix`` makes of it."""
     for judged in track_network(network).links:
         if judged.fault == fault and judged.reported:
             link = judged.link
-            yield Hit(link.element, f"{link.kind} of road '{judged.road.id}' {judged.why}")
+            yield Hit(
+                link.element,
+                f"{link.kind} of road '{judged.road.id}' {judged.why}",
+                fix=fix(judged) if fix is not None else None,
+            )
 
 
 def joints(network: RailNetwork) -> list[Joint]:

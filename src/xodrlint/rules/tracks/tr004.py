@@ -33,6 +33,12 @@ Use instead:
 </link>
 ```
 
+## Fix
+Unsafe: where the other road's end names nothing, `xodrlint check --fix --unsafe-fixes`
+adds the answering `predecessor` or `successor` (naming this road's end) to that road's
+`link`, in the schema's order, making a `<link>` where the road has none. A link that
+names something is never replaced: which of the two is right only a person can say.
+
 ## Related rules
 TR003 (the link names a road the file lacks) and TR005 (no `contactPoint`) come first:
 TR004 stays silent on such a link, and on a link answered by one without a contact
@@ -48,8 +54,8 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from xodrlint.rules import Hit, RailNetwork, Severity, rule
-from xodrlint.rules.tracks._joints import NOT_ANSWERED
+from xodrlint.rules import Applicability, Fix, Hit, RailNetwork, Severity, insert_element, rule
+from xodrlint.rules.tracks._joints import END_OF, LINK_AT, NOT_ANSWERED, TrackLink
 from xodrlint.rules.tracks._network import link_faults
 
 
@@ -61,4 +67,40 @@ from xodrlint.rules.tracks._network import link_faults
     defers_to=("TR003", "TR005"),
 )
 def track_link_not_reciprocal(network: RailNetwork) -> Iterator[Hit]:
-    yield from link_faults(network, NOT_ANSWERED)
+    yield from link_faults(network, NOT_ANSWERED, _answer)
+
+
+def _answer(judged: TrackLink) -> Fix | None:
+    """The answering ``predecessor`` or ``successor`` added to the other road's ``link``
+    (a ``link`` made where it has none), where that road's end names nothing; a link
+    that names something is never replaced."""
+    target, end, contact = judged.target, judged.end, judged.link.contact_point
+    road_id = judged.road.id
+    if target is None or contact not in LINK_AT or road_id is None:
+        return None
+    kind = LINK_AT[contact]
+    if any(link.kind == kind for link in target.links):
+        return None  # it names something (or nothing readable): a person decides
+    answer = {"elementType": "road", "elementId": road_id, "contactPoint": end}
+    message = f"add the answering {kind} to road '{target.id}'"
+    elements = [child for child in target.element if isinstance(child.tag, str)]
+    link = next((child for child in elements if child.tag == "link"), None)
+    if link is None:
+        if not elements:
+            return None
+        edit = insert_element(elements[0], "link", {}, where="before", children=[(kind, answer)])
+        return Fix(message, (edit,), Applicability.UNSAFE)
+    held = [child for child in link if isinstance(child.tag, str)]
+    if not held:
+        return None  # an empty <link/>: nothing to stand beside
+    # the schema's order: predecessor, successor, then any additional data
+    if END_OF[kind] == "start":
+        edit = insert_element(held[0], kind, answer, where="before")
+    else:
+        before = [child for child in held if child.tag == "predecessor"]
+        edit = (
+            insert_element(before[-1], kind, answer)
+            if before
+            else insert_element(held[0], kind, answer, where="before")
+        )
+    return Fix(message, (edit,), Applicability.UNSAFE)

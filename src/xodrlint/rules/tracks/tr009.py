@@ -38,6 +38,11 @@ Use instead:
   millimetres. Configuration: `s-tolerance = 0.0005` in `[tool.xodrlint]`; command
   line: `--rule-option s-tolerance=0.0005`.
 
+## Fix
+Unsafe: `xodrlint check --fix --unsafe-fixes` sets the road's `@length` to where its plan
+view ends (the shortest decimal that reads back as that number). Which of the two is
+wrong only a person can say: the diff shows the new length.
+
 ## Related rules
 TR014 reports a track whose plan view cannot be evaluated; TR009 stays silent on it. A
 `@length` that is missing or no number at all is the schema's (XS006). TR008 reports
@@ -51,10 +56,23 @@ records that do not join up; TR009 compares only the total length.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 from typing import TYPE_CHECKING, Final
 
-from xodrlint.rules import Hit, RailNetwork, Settings, Severity, non_finite, rule
+from lxml import etree
+
+from xodrlint.rules import (
+    Applicability,
+    Fix,
+    Hit,
+    RailNetwork,
+    Settings,
+    Severity,
+    non_finite,
+    rule,
+    set_attribute,
+)
 from xodrlint.rules._shared import S_TOLERANCE_OPTION, beyond, metres, quoted
 from xodrlint.rules.tracks._planview import track_plan_views
 
@@ -86,6 +104,7 @@ def track_length_mismatch(network: RailNetwork, settings: Settings) -> Iterator[
                 yield Hit(
                     road.element,
                     f"track {quoted(road.id)} has length '{written}', but {_ends(last)}",
+                    fix=_length_fix(road.element, end),
                 )
             continue
         difference = abs(road.length - end)
@@ -94,7 +113,21 @@ def track_length_mismatch(network: RailNetwork, settings: Settings) -> Iterator[
                 road.element,
                 f"track {quoted(road.id)} has length {metres(road.length)}, but "
                 f"{_ends(last)}: {beyond(difference, LENGTH_TOLERANCE, 4)} m apart",
+                fix=_length_fix(road.element, end),
             )
+
+
+def _length_fix(road: etree._Element, end: float) -> Fix | None:
+    """``road/@length`` := where its plan view ends, written as the shortest decimal
+    that reads back as that number."""
+    if not math.isfinite(end):
+        return None
+    written = str(int(end)) if end.is_integer() else repr(end)
+    return Fix(
+        f"set the length to {written}, where the plan view ends",
+        (set_attribute(road, "length", written),),
+        Applicability.UNSAFE,
+    )
 
 
 def _ends(last: Record) -> str:
