@@ -95,3 +95,48 @@ def test_fix_is_refused_for_a_url_and_a_scheduler(tmp_path: Path) -> None:
     assert url.stderr.count("\n") == 1 and "cannot fix an object by URL" in url.stderr
     cluster = cli("check", "--fix", "--scheduler", "local", _copy(tmp_path), code=2)
     assert "--fix" in cluster.stderr and "--scheduler" in cluster.stderr
+
+
+def test_sarif_results_carry_their_fixes_valid_against_the_oasis_schema(tmp_path: Path) -> None:
+    from tests.formatters.test_formatters import assert_valid_sarif
+
+    crlf = tmp_path / "crlf.xodr"
+    crlf.write_bytes(
+        (REPO / "rules" / "XL001" / "invalid_alone_and_beside_markup_crlf.xodr").read_bytes()
+    )
+    done = cli(
+        "check", "-f", "sarif", "--select", "PT003,XL001,ST001,ST002", _copy(tmp_path), crlf,
+        code=1,
+    )  # fmt: skip
+    log = json.loads(done.stdout)
+    assert_valid_sarif(log)
+    results = log["runs"][0]["results"]
+    pt003 = next(r for r in results if r["ruleId"] == "PT003")
+    location = pt003["locations"][0]["physicalLocation"]["artifactLocation"]  # the same file
+    assert pt003["fixes"] == [
+        {
+            "description": {"text": "name the partner 'W32' (safe fix)"},
+            "artifactChanges": [
+                {
+                    "artifactLocation": location,
+                    "replacements": [
+                        {
+                            "deletedRegion": {
+                                "startLine": 22,
+                                "startColumn": 24,
+                                "endLine": 22,
+                                "endColumn": 27,
+                            },
+                            "insertedContent": {"text": "W32"},
+                        }
+                    ],
+                }
+            ],
+        }
+    ]
+    # a comment alone on its line goes with the line: the region ends at the next line
+    removal = next(r for r in results if r["ruleId"] == "XL001")["fixes"][0]
+    (replacement,) = removal["artifactChanges"][0]["replacements"]
+    region = replacement["deletedRegion"]
+    assert (region["startColumn"], region["endLine"] - region["startLine"]) == (1, 1)
+    assert replacement["insertedContent"]["text"] == ""

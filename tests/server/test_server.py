@@ -289,7 +289,7 @@ async def test_suppressing_an_element_after_others_on_its_line(
     text = EXAMPLE.replace('dir="+"/>\n        <partner name="W3"', 'dir="+"/><partner name="W3"')
     path = tmp_path / "a.xodr"
     found = await _open(client, path, text)
-    (here, _) = await _actions(client, path, found[0])
+    (_fix, here, _) = await _actions(client, path, found[0])  # the fix, then the two
     assert here.edit is not None
     edited = _apply(text, here.edit, path.as_uri())
     assert 'dir="+"/><!-- xodrlint: ignore[PT003] --><partner name="W3"' in edited

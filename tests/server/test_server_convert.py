@@ -10,6 +10,7 @@ pytest.importorskip("lsprotocol", reason="the server extra (pygls) is not instal
 from lsprotocol import types
 
 from xodrlint.api import default_registry
+from xodrlint.findings import Severity
 from xodrlint.server.convert import Lines, help_uri, tag_range, units
 
 LINE = '  <!-- \U0001f682 é --><switch id="1"/>'
@@ -91,3 +92,30 @@ def test_a_buffer_of_lone_carriage_returns_gets_each_diagnostic_on_its_line() ->
     expected = _ranges(text)
     assert _ranges(text.replace("\n", "\r")) == expected
     assert _ranges(text.replace("\n", "\r\n")) == expected
+
+
+def test_a_fix_is_placed_in_the_clients_units_and_fix_all_keeps_crlf() -> None:
+    from xodrlint.findings import Finding
+    from xodrlint.fixes import Applicability, FindingFix, TextEdit
+    from xodrlint.server.actions import fix_all_action
+    from xodrlint.server.convert import fix_data
+
+    text = '<a>\r\n  <!-- \U0001f682 --><b c="x"/>\r\n</a>\r\n'
+    column = text.split("\r\n")[1].index('"x"') + 2  # 1-based, of the x, in code points
+    edit = TextEdit("y", 2, column, 2, column + 1, 0, 0)
+    finding = Finding("a", 2, 3, "ZZ001", "u", Severity.ERROR, "m", "/a/b")._replace(
+        fix=FindingFix(Applicability.SAFE, "say y", (edit,))
+    )
+    data = fix_data(finding, Lines(text), types.PositionEncodingKind.Utf16)
+    assert data is not None
+    (placed,) = data["fix"]["edits"]  # type: ignore[index]
+    assert placed["range"]["start"] == {"line": 1, "character": column}  # the emoji: two
+    action = fix_all_action("u", text, text.replace('"x"', '"y"'), types.PositionEncodingKind.Utf16)
+    assert action is not None and action.edit is not None and action.edit.changes is not None
+    (change,) = action.edit.changes["u"]
+    assert change.new_text == "y" and change.range.start == types.Position(1, column)
+    # a change that ends a line: never between the two characters of its break
+    longer = fix_all_action("u", text, text.replace("</a>\r\n", "</a>\r\n\r\n"), "utf-16")
+    assert longer is not None and longer.edit is not None and longer.edit.changes is not None
+    (added,) = longer.edit.changes["u"]
+    assert added.new_text == "\r\n" and added.range.start == types.Position(3, 0)

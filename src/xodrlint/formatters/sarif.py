@@ -85,6 +85,7 @@ JsonObject = dict[str, Any]
 
 class SarifFormatter:
     carries_notes = True
+    shows_fixes = True  # each result's "fixes" (SARIF 2.1.0 section 3.55)
     says_withheld = True  # in the run's properties
 
     def __init__(
@@ -298,12 +299,43 @@ def _result(
             for number, other in enumerate(finding.related, start=1)
         ]
     entry["partialFingerprints"] = {FINGERPRINT_KEY: fingerprint}
+    if finding.fix is not None and finding.fix.edits:
+        entry["fixes"] = [_fix(finding, root)]
     if item is not None:
         suppression: JsonObject = {"kind": item.kind}
         if item.justification:
             suppression["justification"] = item.justification
         entry["suppressions"] = [suppression]
     return entry
+
+
+def _fix(finding: Finding, root: str) -> JsonObject:
+    """A finding's fix as SARIF's ``fix`` (3.55): its edits as replacements in its file,
+    each a deleted region (empty for an insertion) and the content put there; columns
+    count code points, the end's being the one after the region, as SARIF's do."""
+    fix = finding.fix
+    assert fix is not None
+    replacements = [
+        {
+            "deletedRegion": {
+                "startLine": edit.start_line,
+                "startColumn": edit.start_column,
+                "endLine": edit.end_line,
+                "endColumn": edit.end_column,
+            },
+            "insertedContent": {"text": edit.content},
+        }
+        for edit in fix.edits
+    ]
+    return {
+        "description": {"text": f"{fix.message} ({fix.applicability} fix)"},
+        "artifactChanges": [
+            {
+                "artifactLocation": artifact_location(finding.path, root),
+                "replacements": replacements,
+            }
+        ],
+    }
 
 
 def _schemas(result: RunResult) -> list[JsonObject]:

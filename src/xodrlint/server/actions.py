@@ -11,9 +11,10 @@ from typing import Final
 from lsprotocol import types
 
 from xodrlint.rules.registry import Registry
-from xodrlint.server.convert import SOURCE
+from xodrlint.server.convert import SOURCE, units
 
 _INDENT: Final = re.compile(r"[ \t]*")
+_BREAK: Final = re.compile(r"\r\n|\r|\n")
 _DECLARATION: Final = re.compile(r"\s*<\?xml[^>]*\?>")
 #: The code of a file that is not well-formed, which no comment in it can withhold.
 UNPARSED: Final = "XS001"
@@ -75,18 +76,108 @@ def _file(uri: str, source: str, code: str) -> types.CodeAction:
     )
 
 
+#: The kind of the action that makes every safe fix of a document (as ruff's server
+#: offers ``source.fixAll.ruff``); an editor runs it on save where asked to.
+FIX_ALL: Final = "source.fixAll.xodrlint"
+
+
 def code_actions(
-    uri: str, source: str, diagnostics: Sequence[types.Diagnostic]
+    uri: str,
+    source: str,
+    diagnostics: Sequence[types.Diagnostic],
+    published: Sequence[types.Diagnostic] | None = None,
 ) -> list[types.CodeAction]:
+    """Each diagnostic's fix (where ``published``, the diagnostics of the text as it is
+    now, has it: a fix of an older text would edit the wrong places), then its
+    suppressions."""
     lines = source.split("\n")
     actions: list[types.CodeAction] = []
     for item in diagnostics:
         if item.source != SOURCE or not isinstance(item.code, str) or item.code == UNPARSED:
             continue  # a file that does not parse has no comments to read
+        fix = _fix_action(uri, item, published)
         for action in (
+            *((fix,) if fix is not None else ()),
             _here(uri, lines, item.code, item.range.start),
             _file(uri, source, item.code),
         ):
             action.diagnostics = [item]
             actions.append(action)
     return actions
+
+
+def _fix_action(
+    uri: str, item: types.Diagnostic, published: Sequence[types.Diagnostic] | None
+) -> types.CodeAction | None:
+    """The quick fix of ``item``: its fix's edits, from the published diagnostic it is
+    (never from what the client sends back, which a client may have kept from before)."""
+    current = next(
+        (
+            known
+            for known in published or ()
+            if known.code == item.code
+            and known.range == item.range
+            and known.message == item.message
+        ),
+        None,
+    )
+    data = current.data if current is not None else None
+    fix = data.get("fix") if isinstance(data, dict) else None
+    if not isinstance(fix, dict):
+        return None
+    safe = fix["applicability"] == "safe"
+    edits = [
+        types.TextEdit(
+            types.Range(
+                types.Position(**edit["range"]["start"]), types.Position(**edit["range"]["end"])
+            ),
+            edit["newText"],
+        )
+        for edit in fix["edits"]
+    ]
+    title = f"Fix {item.code}: {fix['message']}" + ("" if safe else " (unsafe)")
+    return types.CodeAction(
+        title=title,
+        kind=types.CodeActionKind.QuickFix,
+        edit=types.WorkspaceEdit(changes={uri: edits}),
+        is_preferred=safe,
+    )
+
+
+def fix_all_action(uri: str, before: str, after: str, encoding: str) -> types.CodeAction | None:
+    """``source.fixAll.xodrlint``: the text ``before`` becomes ``after`` (the safe fixes
+    made as ``check --fix`` makes them), as one edit of the run that differs; ``None``
+    where nothing changes."""
+    if before == after:
+        return None
+    head = 0
+    limit = min(len(before), len(after))
+    while head < limit and before[head] == after[head]:
+        head += 1
+    if 0 < head < len(before) and before[head - 1 : head + 1] == "\r\n":
+        head -= 1  # never between the two characters of one line break
+    tail = 0
+    while tail < limit - head and before[-1 - tail] == after[-1 - tail]:
+        tail += 1
+    end = len(before) - tail
+    if tail and 0 < end < len(before) and before[end - 1 : end + 1] == "\r\n":
+        tail -= 1
+    edit = types.TextEdit(
+        types.Range(
+            _position_at(before, head, encoding), _position_at(before, len(before) - tail, encoding)
+        ),
+        after[head : len(after) - tail],
+    )
+    return types.CodeAction(
+        title="Fix all safe xodrlint findings",
+        kind=FIX_ALL,
+        edit=types.WorkspaceEdit(changes={uri: [edit]}),
+    )
+
+
+def _position_at(text: str, offset: int, encoding: str) -> types.Position:
+    """Where ``offset`` of ``text`` is, as the protocol counts lines ("\\r\\n", "\\n" or a
+    lone "\\r") and characters (the client's encoding)."""
+    line_start = max(text.rfind("\n", 0, offset), text.rfind("\r", 0, offset)) + 1
+    line = len(_BREAK.findall(text, 0, line_start))
+    return types.Position(line, units(text[line_start:offset], encoding))

@@ -30,23 +30,41 @@ _DECLARED: Final = re.compile(
 )
 
 
+def document_codec(text: str) -> str:
+    """The codec an editor's ``text`` is written in on disk: the one its XML declaration
+    names where the text can be written in it, else UTF-8."""
+    declared = _DECLARED.match(text)
+    if declared is not None:
+        try:
+            codec = codecs.lookup(declared.group(1)).name
+            text.removeprefix("\ufeff").encode(codec)
+        except (LookupError, UnicodeEncodeError):
+            return "utf-8"
+        return codec
+    return "utf-8"
+
+
 def document_bytes(text: str) -> bytes:
     """The bytes of an editor's ``text`` as its file holds them: in the encoding its XML
     declaration names (a document declaring UTF-16 is UTF-16 on disk, and the parser
     refuses UTF-8 under that declaration), UTF-8 where it names none, or one the text
     cannot be written in (the parser then says what it finds wrong)."""
-    declared = _DECLARED.match(text)
-    if declared is not None:
-        try:
-            codec = codecs.lookup(declared.group(1)).name
-            if codec != "utf-8":
-                # a byte order mark the editor kept: the codec writes its own, or none
-                return text.removeprefix("\ufeff").encode(codec)
-        except (LookupError, UnicodeEncodeError):
-            pass
+    codec = document_codec(text)
+    if codec != "utf-8":
+        # a byte order mark the editor kept: the codec writes its own, or none
+        return text.removeprefix("\ufeff").encode(codec)
     # a lone surrogate (an editor may send one) is written as the bytes it stands for:
     # not UTF-8, so the parser reports it where it stands (XS001) instead of no lint
     return text.encode("utf-8", "surrogatepass")
+
+
+def document_text(data: bytes, text: str) -> str:
+    """Bytes :func:`document_bytes` made of ``text`` (then edited) as the editor's text."""
+    codec = document_codec(text)
+    decoded = data.decode(codec) if codec != "utf-8" else data.decode("utf-8", "surrogatepass")
+    if decoded.startswith("\ufeff") and not text.startswith("\ufeff"):
+        decoded = decoded[1:]  # the codec's own mark, which the editor's text lacks
+    return decoded
 
 
 class Lines:
@@ -115,7 +133,34 @@ def diagnostic(
         code_description=types.CodeDescription(href) if href else None,
         source=SOURCE,
         related_information=related or None,
+        data=fix_data(finding, lines, encoding),
     )
+
+
+def fix_data(finding: Finding, lines: Lines, encoding: str) -> dict[str, object] | None:
+    """A finding's fix as a diagnostic's ``data``: what its quick fix does, in the
+    client's position encoding (the server turns it into the action's edit)."""
+    fix = finding.fix
+    if fix is None or not fix.edits:
+        return None
+    edits = [
+        {
+            "range": {
+                "start": _position(lines, edit.start_line, edit.start_column, encoding),
+                "end": _position(lines, edit.end_line, edit.end_column, encoding),
+            },
+            "newText": edit.content,
+        }
+        for edit in fix.edits
+    ]
+    return {
+        "fix": {"applicability": str(fix.applicability), "message": fix.message, "edits": edits}
+    }
+
+
+def _position(lines: Lines, line: int, column: int, encoding: str) -> dict[str, int]:
+    text = lines.get(line)
+    return {"line": line - 1, "character": units(text[: column - 1], encoding)}
 
 
 def diagnostics(

@@ -17,6 +17,7 @@ from xodrlint.config.settings import (
     Settings,
     settings_from,
 )
+from xodrlint.engine.fixing import FixPolicy
 from xodrlint.engine.linter import Linter, LintOptions
 from xodrlint.rules.options import declared_options
 from xodrlint.rules.registry import Registry
@@ -110,7 +111,13 @@ class Folders:
         return settings
 
     def _linter(self, settings: Settings) -> Linter:
-        return Linter(self._registry, LintOptions.of(settings))
+        # the editor's fixes: every finding's edits placed, safe ones made by fixAll (a
+        # configuration's ``fix`` never writes a file from here)
+        options = LintOptions.of(settings)._replace(
+            place_fixes=True,
+            fixes=FixPolicy(fixable=settings.fixable, unfixable=settings.unfixable),
+        )
+        return Linter(self._registry, options)
 
 
 def _without_workspace_powers(settings: Settings) -> tuple[Settings, list[str]]:

@@ -23,8 +23,8 @@ from xodrlint import __version__
 from xodrlint.api import default_registry
 from xodrlint.inputs.collect import XODR_SUFFIX
 from xodrlint.rules.registry import Registry
-from xodrlint.server.actions import code_actions, covers, hover_text
-from xodrlint.server.convert import SOURCE, diagnostics, document_bytes
+from xodrlint.server.actions import FIX_ALL, code_actions, covers, fix_all_action, hover_text
+from xodrlint.server.convert import SOURCE, diagnostics, document_bytes, document_text
 from xodrlint.server.worker import DEFAULT_DEADLINE, LintWorker, Outcome
 
 #: Seconds of quiet after a keystroke before the buffer is linted.
@@ -41,6 +41,8 @@ class XodrServer(LanguageServer):
         self.latest: dict[str, int] = {}
         self.pending: dict[str, asyncio.Task[None]] = {}
         self.published: dict[str, list[types.Diagnostic]] = {}
+        #: The version of the text each published diagnostics list is of.
+        self.versions: dict[str, int | None] = {}
         self.told: set[str] = set()
         #: The client asked for ``shutdown``: an ``exit`` after it ends the server with 0.
         self.shut_down = False
@@ -73,6 +75,7 @@ class XodrServer(LanguageServer):
                     types.ShowMessageParams(types.MessageType.Warning, f"xodrlint: {problem}")
                 )
         self.published[uri] = found
+        self.versions[uri] = version
         self.text_document_publish_diagnostics(
             types.PublishDiagnosticsParams(uri=uri, diagnostics=found, version=version)
         )
@@ -97,6 +100,21 @@ class XodrServer(LanguageServer):
         # a rule pack left out (it failed to load, or breaks the rule API) is said once:
         # the worker loads the packs this process did
         return found, [*self.registry.warnings, *told]
+
+    def fix_all(self, uri: str, text: str) -> str | None:
+        """In the pool's thread: ``text`` with its safe fixes made in the worker, as
+        ``check --fix`` makes them; ``None`` where none could be (said once)."""
+        path = Path(to_fs_path(uri) or "untitled.xodr")
+        data = document_bytes(text)
+        fixed = self.worker.fix(path, data)
+        if isinstance(fixed, str):
+            return None
+        if fixed == data:
+            return text
+        try:
+            return document_text(fixed, text)
+        except UnicodeDecodeError:
+            return None
 
     def close(self, uri: str) -> None:
         self.latest[uri] = self.latest.get(uri, 0) + 1
@@ -193,11 +211,29 @@ def build() -> XodrServer:
 
     @server.feature(
         types.TEXT_DOCUMENT_CODE_ACTION,
-        types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix]),
+        types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix, FIX_ALL]),
     )
-    def actions(ls: XodrServer, params: types.CodeActionParams) -> list[types.CodeAction]:
+    async def actions(ls: XodrServer, params: types.CodeActionParams) -> list[types.CodeAction]:
         document = ls.workspace.get_text_document(params.text_document.uri)
-        return code_actions(document.uri, document.source, params.context.diagnostics)
+        uri, text = document.uri, document.source
+        only = params.context.only
+        found: list[types.CodeAction] = []
+        if only is None or any(
+            kind in (types.CodeActionKind.QuickFix, types.CodeActionKind.Empty) for kind in only
+        ):
+            # fixes only from diagnostics of the text as it is now
+            current = ls.versions.get(uri) == document.version
+            published = ls.published.get(uri) if current else None
+            found += code_actions(uri, text, params.context.diagnostics, published)
+        if only is not None and any(
+            FIX_ALL.startswith(str(kind)) and str(kind) != "" for kind in only
+        ):
+            loop = asyncio.get_running_loop()
+            fixed = await loop.run_in_executor(ls.pool, ls.fix_all, uri, text)
+            if fixed is not None:
+                action = fix_all_action(uri, text, fixed, ls.encoding)
+                found += [action] if action is not None else []
+        return found
 
     return server
 

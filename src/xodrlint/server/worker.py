@@ -66,6 +66,16 @@ class LintWorker:
             return answer
         return Outcome(None, failure=answer)
 
+    def fix(self, path: Path, data: bytes) -> bytes | str:
+        """``data`` with every safe fix made as ``check --fix`` makes them, within the
+        deadline; or why not."""
+        answer = self._ask(("fix", str(path), data), f"fixing {path}")
+        if isinstance(answer, Outcome):
+            if answer.report is not None and answer.report.fixed_source is not None:
+                return answer.report.fixed_source
+            return answer.failure or "no fix was made"
+        return answer or "no fix was made"
+
     def forget(self) -> None:
         """A configuration file changed: the worker chooses every linter again."""
         if self._process is not None:
@@ -163,7 +173,22 @@ def serve_lints(connection: Connection, trusted: bool) -> None:
             connection.send(None)
             continue
         _, name, data = request
+        if kind == "fix":
+            connection.send(_fix(folders, Path(name), data))
+            continue
         connection.send(_lint(folders, Path(name), data))
+
+
+def _fix(folders: Folders, path: Path, data: bytes) -> Outcome:
+    """The safe fixes of ``data`` made: the fixed bytes as the report's ``fixed_source``."""
+    try:
+        choice = folders.linter_for(path)
+        if choice.excluded(path):
+            return Outcome(FileReport(str(path), fixed_source=data), choice.problem)
+        fixed, report = choice.linter.fixed_source(data, str(path), path)
+    except Exception as error:  # as for a lint: said, not swallowed
+        return Outcome(None, failure=f"cannot fix {path}: {error}")
+    return Outcome(report._replace(fixed_source=fixed), choice.problem)
 
 
 def _lint(folders: Folders, path: Path, data: bytes) -> Outcome:
