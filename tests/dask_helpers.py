@@ -53,10 +53,15 @@ class PatchedLintPath(WorkerPlugin):
         wrap = self.wrap
 
         def lint_path(
-            linter: Linter, path: Path, display: str | None = None, external: ExternalIgnores = ()
+            linter: Linter,
+            path: Path,
+            display: str | None = None,
+            external: ExternalIgnores = (),
+            *,
+            root: Path | None = None,
         ) -> FileReport:
             wrap(path)
-            return original(linter, path, display, external)
+            return original(linter, path, display, external, root=root)
 
         Linter.lint_path = lint_path  # type: ignore[method-assign, assignment]
 

@@ -69,6 +69,15 @@ def test_plugins_page_explains_every_argument_of_the_rule_decorator() -> None:
         assert f"- `{parameter}`:" in decorator, f"docs/plugins.md does not explain `{parameter}`"
 
 
+def test_the_fix_example_in_plugins_md_is_the_example_packs_code() -> None:
+    # the page shows a fix a test runs: HR002's, whose case has its .fixed.xodr
+    guide = (REPO / "docs" / "plugins.md").read_text("utf-8").split("## Fixes")[1]
+    snippet = guide.split("```python\n", 1)[1].split("```", 1)[0]
+    pack = REPO / "examples" / "rulepack"
+    assert snippet in (pack / "src" / "xodrlint_houserules" / "hr002.py").read_text("utf-8")
+    assert (pack / "rules" / "HR002" / "invalid_blanks.fixed.xodr").is_file()
+
+
 def test_the_generated_reference_names_every_field_of_the_model() -> None:
     import dataclasses
 

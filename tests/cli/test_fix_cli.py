@@ -140,3 +140,29 @@ def test_sarif_results_carry_their_fixes_valid_against_the_oasis_schema(tmp_path
     region = replacement["deletedRegion"]
     assert (region["startColumn"], region["endLine"] - region["startLine"]) == (1, 1)
     assert replacement["insertedContent"]["text"] == ""
+
+
+def test_fix_through_a_link_swapped_out_of_the_walk_after_listing_is_refused(
+    tmp_path: Path,
+) -> None:
+    from xodrlint.api import default_registry
+    from xodrlint.engine.fixing import APPLY, FixPolicy
+    from xodrlint.engine.linter import Linter, LintOptions
+    from xodrlint.inputs.collect import collect_inputs
+    from xodrlint.runners.batch import lint_task, task_of
+
+    walked = tmp_path / "maps"
+    walked.mkdir()
+    inside = _copy(walked, name="inside.xodr")
+    link = walked / "a.xodr"
+    link.symlink_to(inside)
+    (item,) = [i for i in collect_inputs([str(walked)]) if i.display.endswith("a.xodr")]
+    assert item.root == walked
+    # between the listing and the write, the link comes to lead out of the folder
+    outside = _copy(tmp_path, name="outside.xodr")
+    link.unlink()
+    link.symlink_to(outside)
+    options = LintOptions(select=("PT003",), fixes=FixPolicy(mode=APPLY), place_fixes=True)
+    report = lint_task(Linter(default_registry(), options), task_of(item))
+    assert report.error is not None and "link leading out of the folder walked" in report.error
+    assert outside.read_bytes() == MISMATCH.read_bytes()

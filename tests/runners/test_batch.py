@@ -236,10 +236,10 @@ def test_a_file_that_breaks_the_linter_is_its_internal_error_and_the_rest_go_on(
 ) -> None:
     real = Linter.lint_path
 
-    def failing(linter: Linter, path: Path, *args: object) -> FileReport:
+    def failing(linter: Linter, path: Path, *args: object, **named: object) -> FileReport:
         if path.name == "crash.xodr":
             raise RuntimeError("simulated failure")
-        return real(linter, path, *args)  # type: ignore[arg-type]
+        return real(linter, path, *args, **named)  # type: ignore[arg-type]
 
     if jobs > 1 and not batch._can_fork_workers():
         pytest.skip("this process runs threads (a Dask test's): its workers are not forks of it")

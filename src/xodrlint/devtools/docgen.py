@@ -44,11 +44,17 @@ SHOWN_ROOT: Final = "file:///path/to/checkout/"
 FORMAT_NOTES: Final = {
     "text": "The default: for people at a terminal (colours only on a terminal). Standard "
     "output holds the report; the run's notes (what was not checked) follow on standard "
-    "error, `xodrlint: note: ...`, as in every format that has no place for them.",
+    "error, `xodrlint: note: ...`, as in every format that has no place for them. A "
+    "finding `--fix` mends is marked `[*]`, and a line counts them (see "
+    "[fixes.md](fixes.md)).",
     "concise": "One line per finding, for editors and grep. The run's notes (what was not "
     "checked) go to standard error, `xodrlint: note: ...`.",
     "json": "xodrlint's own report; its schema is "
-    "[json-output.schema.json](json-output.schema.json).",
+    "[json-output.schema.json](json-output.schema.json). Each finding's `fix` is `null` or "
+    "what `--fix` would do: its `applicability` (`safe`, or `unsafe`: only with "
+    "`--unsafe-fixes`), a `message`, and its `edits`, each the `content` that replaces the "
+    "text from `line`, `column` to `end_line`, `end_column` (the end excluded; numbered as "
+    "the finding's line and column). See [fixes.md](fixes.md).",
     "jsonl": "JSON Lines, for pipelines: one object per line, each finding as in the JSON "
     'report, and `{"path": ..., "error": ...}` for a file that could not be read (its schema '
     "is [jsonl-output.schema.json](jsonl-output.schema.json)). Each file's lines are written "
@@ -74,7 +80,10 @@ FORMAT_NOTES: Final = {
     "one) and in the log (a `warning` in "
     "`invocations[0].toolExecutionNotifications`, its `properties` giving `results`, "
     "`kept` and `leftOut`). A result's `relatedLocations` are places in the file, not other "
-    "results, so none points at a result left out.",
+    "results, so none points at a result left out. A result with a fix has `fixes` (SARIF "
+    "3.55): one `artifactChange` of its file whose `replacements` each delete a region "
+    "(empty for an insertion; `endColumn` is the column after it) and insert content; "
+    "the description says whether the fix is safe or unsafe.",
     "github": "GitHub Actions workflow commands: annotations on the pull request. Each of "
     "the run's notes (what was not checked) is a `::notice` of the run, on no file.",
     "gitlab": "GitLab Code Quality: the merge request widget and diff annotations. A file "
@@ -110,7 +119,7 @@ def formats_page(root: Path) -> str:
     # xodrlint's own rules only: the page is the same whatever packs are installed
     own = tuple(r for r in load_registry().rules if r.meta.origin and r.meta.origin.builtin)
     registry = Registry(own)
-    linter = Linter(registry, LintOptions())
+    linter = Linter(registry, LintOptions(place_fixes=True))  # as check places them
     report = linter.lint_path(root / FORMATS_EXAMPLE, FORMATS_EXAMPLE)
     notes = run_notes([report], registry.metas)
     selected = tuple(rule.code for rule in linter.rules)  # as check says what did not run

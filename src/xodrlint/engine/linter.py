@@ -243,12 +243,24 @@ class Linter:
             self._validators.prepare(load_bytes(stub, "warm-up"))
 
     def lint_path(
-        self, path: Path, display: str | None = None, external: ExternalIgnores = ()
+        self,
+        path: Path,
+        display: str | None = None,
+        external: ExternalIgnores = (),
+        *,
+        root: Path | None = None,
     ) -> FileReport:
-        return self._lint_local(path, display or path.as_posix(), external, None)
+        """Lint the file ``path``; with ``--fix``, write it back (``root``: the folder a
+        walk found it in, out of which no link is written through)."""
+        return self._lint_local(path, display or path.as_posix(), external, None, root)
 
     def _lint_local(
-        self, path: Path, shown: str, external: ExternalIgnores, limit: int | None
+        self,
+        path: Path,
+        shown: str,
+        external: ExternalIgnores,
+        limit: int | None,
+        root: Path | None = None,
     ) -> FileReport:
         started = time.perf_counter()
         try:
@@ -262,11 +274,11 @@ class Linter:
             return FileReport(shown, error=_os_error(error, shown))
         read = time.perf_counter() - started
         if self.options.fixes.mode:
-            return _with_read_time(self._fix_file(data, shown, external, path), read)
+            return _with_read_time(self._fix_file(data, shown, external, path, root), read)
         return _with_read_time(self.lint_bytes(data, shown, external, location=path), read)
 
     def _fix_file(
-        self, data: bytes, shown: str, external: ExternalIgnores, path: Path
+        self, data: bytes, shown: str, external: ExternalIgnores, path: Path, root: Path | None
     ) -> FileReport:
         """The report of ``path`` once fixed: written back with ``--fix`` (what cannot be
         written is the report's error, and the report the file's as it stays), or with
@@ -277,7 +289,7 @@ class Linter:
         from xodrlint.inputs.files import WriteRefused, replace_file
 
         try:
-            replace_file(path, data, fixed.data)
+            replace_file(path, data, fixed.data, root)
         except WriteRefused as refused:
             unchanged, _ = self._lint_once(data, shown, external, path)
             return unchanged._replace(error=f"{shown}: not fixed: {refused}")

@@ -144,6 +144,8 @@ def _fixable_line(result: RunResult, unsafe_fixes: bool) -> Text | None:
     hidden = sum(1 for finding in findings if finding.fix is not None) - fixable
     if not fixable and not hidden:
         return None
+    if not fixable:
+        return Text(f"No fixes available with --fix ({hidden} with --unsafe-fixes).")
     flag = "--fix --unsafe-fixes" if unsafe_fixes else "--fix"
     text = f"[*] {fixable} fixable with {flag}"
     if hidden:

@@ -44,6 +44,9 @@ class Input(NamedTuple):
     skipped: str | None = None
     url: str | None = None
     size: int | None = None
+    root: Path | None = None
+    """The folder a walk or a glob found the file in (``None``: named as such); ``--fix``
+    writes through no link that leads out of it."""
 
     @property
     def lintable(self) -> bool:
@@ -214,7 +217,7 @@ def _glob(
     inside = _inside(root)
     for path in sorted(found):
         if inside(path, links_out):
-            yield _found(path, max_file_size)
+            yield _found(path, max_file_size)._replace(root=Path(root))
 
 
 def _url_excluder(
@@ -321,7 +324,7 @@ def _walk(
         if problem is not None:
             yield problem
         elif inside(path, links_out):
-            yield _found(path, max_file_size)
+            yield _found(path, max_file_size)._replace(root=folder)
 
 
 def _inside(top: str) -> Callable[[Path, list[str]], bool]:

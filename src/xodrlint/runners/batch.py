@@ -57,6 +57,8 @@ class Task(NamedTuple):
     profile: int = 0
     """The configuration the file falls under (:mod:`xodrlint.config.resolver`): which of the
     run's linters lints it."""
+    root: Path | None = None
+    """The folder a walk found the file in (:attr:`~xodrlint.inputs.collect.Input.root`)."""
 
 
 def task_of(
@@ -80,7 +82,7 @@ def task_of(
         )
     if item.path is None:
         raise ValueError(f"{item.display}: not a file an engine lints")
-    return Task(item.path, item.display, external, profile=profile)
+    return Task(item.path, item.display, external, profile=profile, root=item.root)
 
 
 LintTask = Callable[[Task], FileReport]
@@ -137,7 +139,7 @@ def lint_task(linter: Linter, task: Task) -> FileReport:
     try:
         if task.url is not None:
             return linter.lint_url(task.url, task.display, task.external, task.max_file_size)
-        return linter.lint_path(task.path, task.display, task.external)
+        return linter.lint_path(task.path, task.display, task.external, root=task.root)
     except SchemaLoadError:
         raise
     except Exception as error:

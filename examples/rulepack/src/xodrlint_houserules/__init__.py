@@ -10,4 +10,4 @@ rule defined in its modules is registered.
 #: The rule API this pack is written for (xodrlint.rules.API_VERSION when it was made):
 #: an xodrlint of another major version, or of an older minor one, does not load it and
 #: says so once, instead of running rules that may misread the model.
-XODRLINT_RULE_API = (1, 0)
+XODRLINT_RULE_API = (1, 3)  # 1.3: HR002 has a fix

@@ -27,6 +27,11 @@ Use instead:
   (`station-name-pattern = '[A-Z][a-z]+( [A-Z][a-z]+)*'`) or on the command line
   (`--rule-option 'station-name-pattern=[A-Z].*'`).
 
+## Fix
+Safe: where the name with its runs of blanks made single spaces, and none at either end,
+matches the pattern, `xodrlint check --fix` writes that name (`"Example  Halt"` becomes
+`"Example Halt"`). A name in another scheme gets no fix: only a person can rename it.
+
 ## Related rules
 ST008 (xodrlint) reports two stations with one name.
 
@@ -41,7 +46,16 @@ import re
 from collections.abc import Iterator
 from typing import Final
 
-from xodrlint.rules import Hit, RailNetwork, RuleOption, Settings, Severity, rule
+from xodrlint.rules import (
+    Fix,
+    Hit,
+    RailNetwork,
+    RuleOption,
+    Settings,
+    Severity,
+    rule,
+    set_attribute,
+)
 
 PATTERN: Final = RuleOption(
     name="station-name-pattern",
@@ -62,8 +76,16 @@ def station_name_pattern(network: RailNetwork, settings: Settings) -> Iterator[H
     pattern = re.compile(PATTERN.text(settings))
     for station in network.stations:
         if station.name is not None and not pattern.fullmatch(station.name):
+            # rule API 1.3: a fix is a message and edits, made with the API's helpers
+            tidy = " ".join(station.name.split())
+            fix = (
+                Fix(f"name it '{tidy}'", (set_attribute(station.element, "name", tidy),))
+                if tidy != station.name and pattern.fullmatch(tidy)
+                else None
+            )
             yield Hit(
                 station.element,
                 f"station name '{station.name}' does not match '{pattern.pattern}' "
                 f"({PATTERN.name})",
+                fix=fix,
             )
