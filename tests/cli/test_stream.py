@@ -403,7 +403,7 @@ def test_the_first_line_is_written_before_the_last_file_is_linted(
     flushed = tmp_path / "a line was flushed"
     real = Linter.lint_path
 
-    def lint_path(self: Linter, path: Path, shown: str, *args: Any) -> FileReport:
+    def lint_path(self: Linter, path: Path, shown: str, *args: Any, **named: Any) -> FileReport:
         # the last file (in a forked worker too) waits until a line is out, then says
         # whether one came while it waited
         if Path(path).name == "zz-last.xodr":
@@ -412,7 +412,7 @@ def test_the_first_line_is_written_before_the_last_file_is_linted(
                 time.sleep(0.01)
             if not flushed.exists():
                 return FileReport(shown, error="no line was written before the last file")
-        return real(self, path, shown, *args)
+        return real(self, path, shown, *args, **named)
 
     monkeypatch.setattr(Linter, "lint_path", lint_path)
     stdout = _Stdout(flushed)
