@@ -166,3 +166,30 @@ def test_fix_through_a_link_swapped_out_of_the_walk_after_listing_is_refused(
     report = lint_task(Linter(default_registry(), options), task_of(item))
     assert report.error is not None and "link leading out of the folder walked" in report.error
     assert outside.read_bytes() == MISMATCH.read_bytes()
+
+
+def test_a_folders_fix_setting_writes_from_check_alone(tmp_path: Path) -> None:
+    folder = tmp_path / "maps" / "sub"
+    folder.mkdir(parents=True)
+    (folder / "xodrlint.toml").write_text("fix = true\n")
+    target = _copy(folder)
+    # a baseline records the files as they are: refused, not fixed
+    refused = cli("check", "--write-baseline", tmp_path / "b.json", tmp_path / "maps", code=2)
+    assert "--fix does not go with --write-baseline" in refused.stderr
+    assert target.read_bytes() == MISMATCH.read_bytes()
+    # the map draws the file as it is, and writes nothing back
+    cli("map", target, "-o", tmp_path / "m.html", code=1)
+    assert target.read_bytes() == MISMATCH.read_bytes()
+    # check makes the fix the folder asks for
+    cli("check", "--select", "PT003", tmp_path / "maps", code=0)
+    assert target.read_bytes() == MISMATCH_FIXED.read_bytes()
+
+
+def test_diff_says_each_error_once_and_refuses_other_reports(tmp_path: Path) -> None:
+    done = cli(
+        "check", "--select", "PT003", "--diff", tmp_path / "gone.xodr", _copy(tmp_path), code=2
+    )
+    assert done.stderr.count("gone.xodr") == 1
+    for extra in (["-o", str(tmp_path / "r.json")], ["--report", f"sarif={tmp_path / 'r'}"]):
+        refused = cli("check", "--diff", *extra, _copy(tmp_path), code=2)
+        assert "--diff prints a diff: it does not go with" in refused.stderr

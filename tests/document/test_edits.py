@@ -352,3 +352,19 @@ def test_an_edit_is_placed_in_lines_and_columns_as_findings_are() -> None:
     assert source.position(source.start_tag(d)[0]) == (3, 1)
     placed = source.placed(source.set_attribute(b, "c", "e"))
     assert (placed.start_line, placed.start_column, placed.end_column) == (2, 8, 9)
+
+
+def test_a_first_line_comment_after_a_byte_order_mark_goes_with_its_line() -> None:
+    data = codecs.BOM_UTF8 + b"<!-- c -->\r\n<a/>"
+    source, root = _source(data)
+    (comment,) = list(root.itersiblings(etree.Comment, preceding=True))
+    assert source.apply([source.comment_edit(comment, None)]) == codecs.BOM_UTF8 + b"<a/>"
+
+
+def test_children_inserted_beside_other_markup_stand_beside_each_other() -> None:
+    data = b"<road><planView/></road>"
+    source, root = _source(data)
+    plan = root.find("planView")
+    assert plan is not None
+    edit = source.insert_element(plan, "link", [], "before", [("predecessor", [("a", "1")])])
+    assert source.apply([edit]) == b'<road><link><predecessor a="1"/></link><planView/></road>'

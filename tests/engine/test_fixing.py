@@ -177,3 +177,99 @@ def test_a_hostile_fix_is_the_rules_internal_error(tmp_path: Path) -> None:
     report = Linter(_with(bad_fix), LintOptions(select=("ZZ103",))).lint_path(MISMATCH)
     assert report.findings == ()
     assert report.internal_errors and "with the edit" in report.internal_errors[0]
+
+
+def test_unsafe_fixes_that_depend_on_each_other_are_made_one_rule_a_pass() -> None:
+    # a side track at s=45 of a road written 60 m long whose plan view is 50 m: SW006
+    # would move it to s=60 while TR009 makes the road 50 m; made in one pass they would
+    # leave it off the road. One rule a pass: the length first, then the side track.
+    data = MISMATCH.read_bytes()
+    data = data.replace(b'<road name="branch2" length="50"', b'<road name="branch2" length="60"')
+    data = data.replace(
+        b'<sideTrack id="2" s="50" dir="-"/>', b'<sideTrack id="2" s="45" dir="-"/>'
+    )
+    selected = ("PT003", "SW", "TR009")
+    linter = _linter(default_registry(), selected, mode=DIFF, unsafe=True)
+    fixed, report = linter.fixed_source(data, "a.xodr")
+    assert report.internal_errors == () and report.findings == ()
+    assert report.fixed == 3
+    assert b'<road name="branch2" length="50"' in fixed
+    assert b'<sideTrack id="2" s="50" dir="-"/>' in fixed
+
+
+@rule(code="ZZ104", name="no-w12", uid="test:w12", severity=Severity.ERROR)
+def no_w12(network: RailNetwork) -> Iterator[Hit]:
+    for switch in network.switches:
+        if switch.name == "W12":
+            yield Hit(
+                switch.element, "W12", fix=Fix("X", (set_attribute(switch.element, "name", "X"),))
+            )
+
+
+@rule(code="ZZ105", name="no-x", uid="test:x", severity=Severity.ERROR)
+def no_x(network: RailNetwork) -> Iterator[Hit]:
+    for switch in network.switches:
+        if switch.name == "X":
+            yield Hit(
+                switch.element, "X", fix=Fix("W12", (set_attribute(switch.element, "name", "W12"),))
+            )
+
+
+def test_fixes_that_undo_each_other_stop_as_an_internal_error() -> None:
+    linter = _linter(_with(no_w12, no_x), ("ZZ104", "ZZ105"), mode=DIFF)
+    _, report = linter.fixed_source(MISMATCH.read_bytes(), "a.xodr")
+    assert report.fixed == 1
+    assert any("undo each other" in error for error in report.internal_errors)
+
+
+def test_a_folder_swapped_for_a_link_out_of_the_walk_is_not_written_through(
+    tmp_path: Path,
+) -> None:
+    walked = tmp_path / "walked"
+    (walked / "sub").mkdir(parents=True)
+    listed = walked / "sub" / "f.xodr"
+    listed.write_bytes(b"<OpenDRIVE/>")
+    outside = tmp_path / "outside"
+    outside.mkdir()
+    (outside / "f.xodr").write_bytes(b"<OpenDRIVE/>")
+    # after the listing, the folder becomes a link to one out of the walk
+    (walked / "sub" / "f.xodr").unlink()
+    (walked / "sub").rmdir()
+    (walked / "sub").symlink_to(outside)
+    with pytest.raises(WriteRefused, match="link leading out of the folder walked"):
+        replace_file(listed, b"<OpenDRIVE/>", b"<OpenDRIVE />", root=walked)
+    assert (outside / "f.xodr").read_bytes() == b"<OpenDRIVE/>"
+
+
+def test_a_diff_counts_lines_as_xml_does() -> None:
+    from xodrlint.engine.fixing import diff_of
+
+    before = "<a>\n<!-- \u2028 \x85 -->\n<b c='1'/>\n</a>\n".encode()
+    after = before.replace(b"c='1'", b"c='2'")
+    diff = diff_of(before, after, "utf-8", "a.xodr")
+    assert "@@ -1,4 +1,4 @@" in diff and "-<b c='1'/>\n+<b c='2'/>\n" in diff
+
+
+def test_an_enumerated_value_is_mended_for_xml_blanks_and_plain_case_alone() -> None:
+    from xodrlint.validation.messages import Explained, enumeration_fix
+
+    def fix_of(value: str) -> object:
+        switch = etree.Element("switch", position=value)
+        why = Explained("m", "enumeration", "switch", attribute="position", allowed=("dynamic",))
+        return enumeration_fix(switch, why)
+
+    assert fix_of(" Dynamic\t") is not None
+    assert fix_of("dynamic\u00a0") is None  # a no-break space is no blank of XML's
+    assert fix_of("DYNAMIC") is not None
+
+
+def test_an_idle_entry_leaves_the_brackets_as_they_were_written() -> None:
+    data = MISMATCH.read_bytes().replace(
+        b'      <switch name="W12"',
+        b'      <!-- xodrlint: ignore[ PT003, XS006 ] why -->\n      <switch name="W12"',
+    )
+    options = LintOptions(
+        select=("PT003", "XS006", "XL001"), fixes=FixPolicy(mode=DIFF), place_fixes=True
+    )
+    fixed, report = Linter(default_registry(), options).fixed_source(data, "a.xodr")
+    assert b"<!-- xodrlint: ignore[ PT003 ] why -->" in fixed and report.fixed == 1

@@ -41,6 +41,15 @@ def _applied(text: str, edits: list[types.TextEdit]) -> str:
     return text
 
 
+def _edits(action: types.CodeAction, path: Path, version: int) -> list[types.TextEdit]:
+    """The action's edits of ``path``: versioned, as a client that takes them is sent."""
+    assert action.edit is not None and action.edit.document_changes is not None
+    (change,) = action.edit.document_changes
+    assert isinstance(change, types.TextDocumentEdit)
+    assert (change.text_document.uri, change.text_document.version) == (path.as_uri(), version)
+    return [edit for edit in change.edits if isinstance(edit, types.TextEdit)]
+
+
 async def _actions(
     client: LanguageClient, path: Path, diagnostics: list[types.Diagnostic], only: list[str] | None
 ) -> list[types.CodeAction]:
@@ -63,8 +72,8 @@ async def test_a_quick_fix_mends_its_finding(client: LanguageClient, tmp_path: P
     actions = await _actions(client, path, [partner], None)
     fix = actions[0]  # the fix comes first, before the suppressions
     assert fix.title.startswith("Fix PT003: name the partner") and fix.is_preferred
-    assert fix.kind == types.CodeActionKind.QuickFix and fix.edit and fix.edit.changes
-    fixed = _applied(EXAMPLE, list(fix.edit.changes[path.as_uri()]))
+    assert fix.kind == types.CodeActionKind.QuickFix
+    fixed = _applied(EXAMPLE, _edits(fix, path, 1))
     _change(client, path, 2, fixed)
     assert "PT003" not in [d.code for d in (await _published(client)).diagnostics]
 
@@ -78,8 +87,8 @@ async def test_fix_all_makes_every_safe_fix_as_the_command_line_does(
     path = tmp_path / "b.xodr"
     await _open(client, path, source)
     (action,) = await _actions(client, path, [], ["source.fixAll.xodrlint"])
-    assert action.kind == "source.fixAll.xodrlint" and action.edit and action.edit.changes
-    fixed = _applied(source, list(action.edit.changes[path.as_uri()]))
+    assert action.kind == "source.fixAll.xodrlint"
+    fixed = _applied(source, _edits(action, path, 1))
     assert fixed == expected
     _change(client, path, 2, fixed)
     assert "PT003" not in [d.code for d in (await _published(client)).diagnostics]

@@ -660,6 +660,7 @@ def map_command(
         exit_zero=exit_zero,
         quiet=quiet,
         keep_alive=_keep_alive(ctx),
+        fix=False,  # the map draws the file as it is: no `fix` from a configuration
     )
     raise typer.Exit(run_map(MapRequest(lint, output)))
 

@@ -154,6 +154,7 @@ def run_qc(
         select=tuple(run.levels) if run.levels else None,
         all_versions=run.all_versions,
         keep_alive=keep_alive,
+        fix=False,  # a checker bundle reports; a configuration's `fix` writes nothing here
     )
     formatter = _Noted(XqarFormatter(params=run.params, levels=run.levels))
     code = run_check(request, formatter)

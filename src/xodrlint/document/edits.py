@@ -246,6 +246,8 @@ class EditableSource:
         start, end = self.comment(comment)
         if text is None:
             line_start = _line_start(self.text, start)
+            if line_start == 0 and self.text.startswith("\ufeff"):
+                line_start = 1  # a byte order mark is no content of the first line
             line_end = _line_end(self.text, end)
             blank = " \t"
             before = self.text[line_start:start]
@@ -289,7 +291,8 @@ class EditableSource:
         if not alone:
             indent = ""
         if children:
-            inner = indent + self._indent_step(anchor)
+            # beside other markup, the children stand beside each other too
+            inner = indent + self._indent_step(anchor) if alone else ""
             held = "".join(
                 f"{line_break}{inner}{self._empty_element(child, values)}"
                 for child, values in children

@@ -1,17 +1,21 @@
 """``--fix`` and ``--diff``: the fixes of a file's findings applied in passes, checked.
 
 A pass lints the source, takes the fixes the policy allows (safe ones; unsafe ones too
-with ``--unsafe-fixes``; codes ``fixable`` names and ``unfixable`` does not), as many as
-touch no text another took, makes their edits and lints the result. A fix whose result
-is not well-formed, or still has the finding it was made for, is rolled back and
-reported as its rule's internal error; the others stay. Passes repeat while fixes apply,
-at most :data:`MAX_PASSES` times: a fix that reveals another defect (an unsafe one may)
-gets its own pass. The report is the fixed source's.
+with ``--unsafe-fixes``; codes ``fixable`` names and ``unfixable`` does not): every safe
+one, else the unsafe ones of one rule, as many as touch no text another took. It makes
+their edits and lints the result. Where the result fails, the pass makes the first half
+of its fixes instead (halving while that fails): a fix that fails on its own (its result
+not well-formed, or still with the finding it was made for) is rolled back and reported
+as its rule's internal error; the others stay. Passes repeat while fixes apply, at most
+:data:`MAX_PASSES` times: a fix that reveals another defect (an unsafe one may) gets its
+own pass. Fixes that undo each other, or that still have work after the last pass, are
+an internal error too. The report is the fixed source's.
 """
 
 from __future__ import annotations
 
 import difflib
+import re
 from collections import Counter
 from collections.abc import Callable, Iterable, Sequence
 from typing import TYPE_CHECKING, Final, NamedTuple
@@ -26,6 +30,8 @@ if TYPE_CHECKING:
 #: At most this many passes over one file (ruff's limit is 100; fixes of a railroad map
 #: seldom reveal more than one more).
 MAX_PASSES: Final = 10
+#: A line with its line break ("\\r\\n", "\\n" or a lone "\\r"), or the last line without one.
+_LINE: Final = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)|[^\r\n]+\Z")
 #: What ``--fix`` does with what it fixed: write it back, or show it as a diff.
 APPLY: Final = "apply"
 DIFF: Final = "diff"
@@ -82,32 +88,49 @@ Lint = Callable[[bytes], Linted]
 
 def fix_source(data: bytes, lint: Lint, policy: FixPolicy) -> Fixed:
     """``data`` with every fix ``policy`` allows made, pass by pass, each checked."""
+    from xodrlint.document.edits import EditableSource
+
     report, source, _ = lint(data)
     fixed = 0
     refused: set[tuple[str, str]] = set()  # fixes rolled back: not tried again
     crashes: list[str] = []
+    seen = {data}  # every state the passes left: fixes that undo each other come back
     for _ in range(MAX_PASSES):
-        from xodrlint.document.edits import EditableSource
-
         chosen = _chosen(report.findings, policy, refused)
         if not chosen or not isinstance(source, EditableSource):
             break
-        outcome = _pass(data, report, source, chosen, lint)
+        outcome = _pass(report, source, chosen, lint)
         for finding, reason in outcome.rolled_back:
             refused.add((finding.code, finding.xpath))
             crashes.append(f"fix for {finding.code} produced {reason} on {report.path}")
         if outcome.applied == 0:
-            continue  # every fix of this pass was rolled back: try the ones left
+            continue  # the fix this pass tried was rolled back: try the ones left
+        if outcome.data in seen:
+            codes = ", ".join(sorted({finding.code for finding in chosen}))
+            crashes.append(
+                f"fixes for {codes} undo each other on {report.path}: stopped after {fixed} fixes"
+            )
+            break
+        seen.add(outcome.data)
         data, report, source = outcome.data, outcome.report, outcome.source
         fixed += outcome.applied
+    else:
+        left = _chosen(report.findings, policy, refused)
+        if left and isinstance(source, EditableSource):
+            crashes.append(
+                f"fixes did not converge on {report.path} in {MAX_PASSES} passes "
+                f"({len(left)} still to make)"
+            )
     internal = (*report.internal_errors, *crashes)
     return Fixed(report._replace(fixed=fixed, internal_errors=internal), data)
 
 
 def diff_of(before: bytes, after: bytes, codec: str, path: str) -> str:
-    """A unified diff of ``before`` and ``after``, decoded with ``codec``."""
-    old = before.decode(codec).removeprefix("\ufeff").splitlines(keepends=True)
-    new = after.decode(codec).removeprefix("\ufeff").splitlines(keepends=True)
+    """A unified diff of ``before`` and ``after``, decoded with ``codec``, in lines as XML
+    and ``patch`` count them (a line ends at "\\r\\n", "\\n" or a lone "\\r"; Python's
+    ``splitlines`` also breaks at U+2028 and others, which would misnumber the hunks)."""
+    old = _LINE.findall(before.decode(codec).removeprefix("\ufeff"))
+    new = _LINE.findall(after.decode(codec).removeprefix("\ufeff"))
     lines = difflib.unified_diff(old, new, fromfile=f"a/{path}", tofile=f"b/{path}")
     return "".join(line if line.endswith(("\n", "\r")) else line + "\n" for line in lines)
 
@@ -116,18 +139,30 @@ def _chosen(
     findings: Sequence[Finding], policy: FixPolicy, refused: set[tuple[str, str]]
 ) -> list[Finding]:
     """The findings whose fixes this pass makes: allowed, placed, and touching no text
-    a fix before them in the report touches."""
+    a fix before them in the report touches. The safe fixes first, all together (each
+    mends a value, a name or a comment where it stands); then the unsafe fixes of one rule
+    a pass: one rule's fixes are worked out from the network as it is, and another's may
+    change what they were worked out from (a side track moved to the end of a road whose
+    length the same pass changes)."""
     from xodrlint.document.edits import Edit, overlapping
 
+    allowed = [
+        finding
+        for finding in findings
+        if finding.fix is not None
+        and finding.fix.edits
+        and (finding.code, finding.xpath) not in refused
+        and (policy.unsafe or finding.fix.applicability is Applicability.SAFE)
+    ]
+    safe = [f for f in allowed if f.fix is not None and f.fix.applicability is Applicability.SAFE]
+    if not safe and allowed:
+        code = allowed[0].code
+        allowed = [finding for finding in allowed if finding.code == code]
     taken: list[Edit] = []
     chosen: list[Finding] = []
-    for finding in findings:
-        fix = finding.fix
-        if fix is None or not fix.edits or (finding.code, finding.xpath) in refused:
-            continue
-        if fix.applicability is Applicability.UNSAFE and not policy.unsafe:
-            continue
-        edits = [Edit(edit.start, edit.end, edit.content) for edit in fix.edits]
+    for finding in safe or allowed:
+        assert finding.fix is not None
+        edits = [Edit(edit.start, edit.end, edit.content) for edit in finding.fix.edits]
         if overlapping([*taken, *edits]):
             continue
         taken += edits
@@ -136,6 +171,8 @@ def _chosen(
 
 
 class _Pass(NamedTuple):
+    """What a pass made (``applied`` fixes: ``data`` and its lint) and rolled back."""
+
     data: bytes
     report: FileReport
     source: EditableSource | str | None
@@ -143,27 +180,21 @@ class _Pass(NamedTuple):
     rolled_back: list[tuple[Finding, str]]
 
 
-def _pass(
-    data: bytes, report: FileReport, source: EditableSource, chosen: list[Finding], lint: Lint
-) -> _Pass:
-    """Make ``chosen``'s fixes together; when the result fails, find the fixes that fail
-    alone, roll them back and make the rest."""
-    result = _try(source, report, chosen, lint)
-    if isinstance(result, tuple):
-        return _Pass(*result, len(chosen), [])
-    rolled_back: list[tuple[Finding, str]] = []
-    kept: list[Finding] = []
-    for finding in chosen:
-        alone = _try(source, report, [finding], lint)
-        if isinstance(alone, str):
-            rolled_back.append((finding, alone))
-        else:
-            kept.append(finding)
-    together = _try(source, report, kept, lint) if kept else "no fix"
-    if isinstance(together, str):  # fine alone, failing together: make none this pass
-        rolled_back += [(finding, together) for finding in kept]
-        return _Pass(data, report, source, 0, rolled_back)
-    return _Pass(*together, len(kept), rolled_back)
+def _pass(report: FileReport, source: EditableSource, chosen: list[Finding], lint: Lint) -> _Pass:
+    """Make ``chosen``'s fixes together; where the result fails, make the first half of
+    them (halving again while that fails) and leave the rest to the next pass, which
+    lints afresh. A pass so makes at least one fix, or finds the one fix that fails on its
+    own and rolls it back, in at most log2(n) + 1 lints (a conflict between two fixes that
+    each pass alone, as a side track moved to a road's end while the road's length
+    changes, is no failure: they are made in two passes)."""
+    candidates = chosen
+    while True:
+        result = _try(source, report, candidates, lint)
+        if not isinstance(result, str):
+            return _Pass(*result, len(candidates), [])
+        if len(candidates) == 1:
+            return _Pass(b"", report, source, 0, [(candidates[0], result)])
+        candidates = candidates[: len(candidates) // 2]
 
 
 def _try(

@@ -178,11 +178,12 @@ def _without(directive: Directive, idle: tuple[str, ...]) -> Fix:
     if not kept or match is None:
         return Fix("remove the suppression comment", (remove_comment(comment),))
     text = comment.text or ""
-    entries = match["codes"].split(",")
-    remaining = [entry for entry in entries if entry.strip() not in idle or not entry.strip()]
-    codes = ",".join(remaining)
-    if entries[0].strip() in idle:  # the first entry went: no blank before the new first
-        codes = codes.lstrip()
+    written = match["codes"]
+    remaining = [entry for entry in written.split(",") if entry.strip() not in idle]
+    # the blanks inside the brackets as written, around the entries that are left
+    lead = written[: len(written) - len(written.lstrip())]
+    trail = written[len(written.rstrip()) :]
+    codes = lead + ",".join(remaining).strip() + trail
     rewritten = text[: match.start("codes")] + codes + text[match.end("codes") :]
     removed = ", ".join(idle)
     return Fix(f"remove {removed} from the suppression", (replace_comment(comment, rewritten),))

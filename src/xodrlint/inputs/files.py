@@ -115,37 +115,63 @@ def replace_file(path: Path, original: bytes, data: bytes, root: Path | None = N
     """Replace the file ``path`` holds, read as ``original``, with ``data``: atomically
     (a temporary file beside it, then a rename), keeping its mode. Refused
     (:class:`WriteRefused`) for a read-only file, a file that changed since it was read,
-    and a link that leads out of ``root`` (the folder a walk found it in)."""
-    import tempfile
+    and a path that leads out of ``root`` (the folder a walk found it in) through a link,
+    its own or a folder's.
 
-    target = path
-    if path.is_symlink():
-        target = path.resolve()
-        if root is not None and not target.is_relative_to(root.resolve()):
-            raise WriteRefused("is a link leading out of the folder walked")
+    The folder is opened once and every step works from that descriptor: a folder or a
+    link swapped after the check cannot turn the write elsewhere."""
+    import secrets
+
+    target = path.resolve()
+    if root is not None and not target.is_relative_to(root.resolve()):
+        raise WriteRefused("is a link leading out of the folder walked")
     try:
-        status = target.stat()
-        current = read_regular_file(target)
-    except OSError as error:
-        raise WriteRefused(f"cannot be read again: {os_reason(error)}") from None
-    if not status.st_mode & 0o222 or not os.access(target, os.W_OK):
-        raise WriteRefused("is read-only")
-    if current != original:
-        raise WriteRefused("changed on disk since it was read")
-    try:
-        handle, temporary = tempfile.mkstemp(prefix=f".{target.name}.", dir=target.parent)
+        folder = os.open(target.parent, os.O_RDONLY | os.O_DIRECTORY | _NO_FOLLOW)
     except OSError as error:
         raise WriteRefused(f"cannot be written: {os_reason(error)}") from None
+    try:
+        same = os.fstat(folder)
+        expected = target.parent.stat()
+        if (same.st_dev, same.st_ino) != (expected.st_dev, expected.st_ino):
+            raise WriteRefused("its folder changed while it was written")
+        _replace_in(folder, target.name, original, data, secrets.token_hex(6))
+    except OSError as error:
+        raise WriteRefused(f"cannot be written: {os_reason(error)}") from None
+    finally:
+        os.close(folder)
+
+
+_NO_FOLLOW = getattr(os, "O_NOFOLLOW", 0)
+
+
+def _replace_in(folder: int, name: str, original: bytes, data: bytes, token: str) -> None:
+    """:func:`replace_file`'s steps in the folder open as ``folder``."""
+    try:
+        current = os.open(name, os.O_RDONLY | _NO_FOLLOW | os.O_NONBLOCK, dir_fd=folder)
+    except OSError as error:
+        raise WriteRefused(f"cannot be read again: {os_reason(error)}") from None
+    with os.fdopen(current, "rb") as stream:
+        status = os.fstat(current)
+        if not stat.S_ISREG(status.st_mode):
+            raise WriteRefused("is no longer a regular file")
+        if stream.read() != original:
+            raise WriteRefused("changed on disk since it was read")
+    if not status.st_mode & 0o222 or not os.access(name, os.W_OK, dir_fd=folder):
+        raise WriteRefused("is read-only")
+    temporary = f".{name}.{token}.tmp"
+    handle = os.open(
+        temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL | _NO_FOLLOW, 0o600, dir_fd=folder
+    )
     try:
         with os.fdopen(handle, "wb") as stream:
             stream.write(data)
             stream.flush()
+            os.fchmod(stream.fileno(), stat.S_IMODE(status.st_mode))
             os.fsync(stream.fileno())
-        Path(temporary).chmod(stat.S_IMODE(status.st_mode))
-        Path(temporary).replace(target)
-    except OSError as error:
-        Path(temporary).unlink(missing_ok=True)
-        raise WriteRefused(f"cannot be written: {os_reason(error)}") from None
+        os.replace(temporary, name, src_dir_fd=folder, dst_dir_fd=folder)
     except BaseException:
-        Path(temporary).unlink(missing_ok=True)
+        with contextlib.suppress(OSError):
+            os.unlink(temporary, dir_fd=folder)
         raise
+    with contextlib.suppress(OSError):
+        os.fsync(folder)  # the rename itself survives a crash

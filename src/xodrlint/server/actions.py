@@ -86,16 +86,18 @@ def code_actions(
     source: str,
     diagnostics: Sequence[types.Diagnostic],
     published: Sequence[types.Diagnostic] | None = None,
+    version: int | None = None,
 ) -> list[types.CodeAction]:
     """Each diagnostic's fix (where ``published``, the diagnostics of the text as it is
     now, has it: a fix of an older text would edit the wrong places), then its
-    suppressions."""
+    suppressions. With the text's ``version`` (a client that takes versioned edits), a fix
+    says which text it is for, and the client refuses it on any other."""
     lines = source.split("\n")
     actions: list[types.CodeAction] = []
     for item in diagnostics:
         if item.source != SOURCE or not isinstance(item.code, str) or item.code == UNPARSED:
             continue  # a file that does not parse has no comments to read
-        fix = _fix_action(uri, item, published)
+        fix = _fix_action(uri, item, published, version)
         for action in (
             *((fix,) if fix is not None else ()),
             _here(uri, lines, item.code, item.range.start),
@@ -107,7 +109,10 @@ def code_actions(
 
 
 def _fix_action(
-    uri: str, item: types.Diagnostic, published: Sequence[types.Diagnostic] | None
+    uri: str,
+    item: types.Diagnostic,
+    published: Sequence[types.Diagnostic] | None,
+    version: int | None,
 ) -> types.CodeAction | None:
     """The quick fix of ``item``: its fix's edits, from the published diagnostic it is
     (never from what the client sends back, which a client may have kept from before)."""
@@ -139,12 +144,24 @@ def _fix_action(
     return types.CodeAction(
         title=title,
         kind=types.CodeActionKind.QuickFix,
-        edit=types.WorkspaceEdit(changes={uri: edits}),
+        edit=workspace_edit(uri, edits, version),
         is_preferred=safe,
     )
 
 
-def fix_all_action(uri: str, before: str, after: str, encoding: str) -> types.CodeAction | None:
+def workspace_edit(
+    uri: str, edits: list[types.TextEdit], version: int | None
+) -> types.WorkspaceEdit:
+    """``edits`` of ``uri``; for the text of ``version`` alone where one is given."""
+    if version is None:
+        return types.WorkspaceEdit(changes={uri: edits})
+    document = types.OptionalVersionedTextDocumentIdentifier(version=version, uri=uri)
+    return types.WorkspaceEdit(document_changes=[types.TextDocumentEdit(document, list(edits))])
+
+
+def fix_all_action(
+    uri: str, before: str, after: str, encoding: str, version: int | None = None
+) -> types.CodeAction | None:
     """``source.fixAll.xodrlint``: the text ``before`` becomes ``after`` (the safe fixes
     made as ``check --fix`` makes them), as one edit of the run that differs; ``None``
     where nothing changes."""
@@ -171,7 +188,7 @@ def fix_all_action(uri: str, before: str, after: str, encoding: str) -> types.Co
     return types.CodeAction(
         title="Fix all safe xodrlint findings",
         kind=FIX_ALL,
-        edit=types.WorkspaceEdit(changes={uri: [edit]}),
+        edit=workspace_edit(uri, [edit], version),
     )
 
 

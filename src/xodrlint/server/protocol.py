@@ -81,6 +81,14 @@ class XodrServer(LanguageServer):
         )
 
     @property
+    def takes_versioned_edits(self) -> bool:
+        """Whether the client applies edits that name the text's version (and refuses
+        them on another): ``workspace.workspaceEdit.documentChanges``."""
+        workspace = self.client_capabilities.workspace
+        edits = workspace.workspace_edit if workspace is not None else None
+        return bool(edits is not None and edits.document_changes)
+
+    @property
     def encoding(self) -> str:
         return str(self.workspace.position_encoding or types.PositionEncodingKind.Utf16)
 
@@ -215,7 +223,8 @@ def build() -> XodrServer:
     )
     async def actions(ls: XodrServer, params: types.CodeActionParams) -> list[types.CodeAction]:
         document = ls.workspace.get_text_document(params.text_document.uri)
-        uri, text = document.uri, document.source
+        uri, text, version = document.uri, document.source, document.version
+        versioned = version if ls.takes_versioned_edits else None
         only = params.context.only
         found: list[types.CodeAction] = []
         if only is None or any(
@@ -224,14 +233,16 @@ def build() -> XodrServer:
             # fixes only from diagnostics of the text as it is now
             current = ls.versions.get(uri) == document.version
             published = ls.published.get(uri) if current else None
-            found += code_actions(uri, text, params.context.diagnostics, published)
+            found += code_actions(uri, text, params.context.diagnostics, published, versioned)
         if only is not None and any(
             FIX_ALL.startswith(str(kind)) and str(kind) != "" for kind in only
         ):
             loop = asyncio.get_running_loop()
             fixed = await loop.run_in_executor(ls.pool, ls.fix_all, uri, text)
-            if fixed is not None:
-                action = fix_all_action(uri, text, fixed, ls.encoding)
+            # the text may have changed while its fixes were made: they are of the old one
+            now = ls.workspace.get_text_document(uri).version
+            if fixed is not None and now == version:
+                action = fix_all_action(uri, text, fixed, ls.encoding, versioned)
                 found += [action] if action is not None else []
         return found
 

@@ -327,8 +327,9 @@ def enumeration_fix(element: etree._Element, why: Explained) -> Fix | None:
     value = element.get(attribute)
     if value is None:
         return None
-    wanted = value.strip().casefold()
-    matches = [allowed for allowed in why.allowed if allowed.casefold() == wanted]
+    # XML's blanks and plain case: a no-break space, or a long s, is no spelling of a value
+    wanted = value.strip(" \t\r\n").lower()
+    matches = [allowed for allowed in why.allowed if allowed.lower() == wanted]
     if len(matches) != 1 or matches[0] == value:
         return None
     return Fix(

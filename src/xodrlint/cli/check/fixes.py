@@ -9,18 +9,14 @@ from collections.abc import Sequence
 
 from xodrlint.findings import FileReport
 from xodrlint.formatters.output import error_line, release
-from xodrlint.messages import one_line, plural
+from xodrlint.messages import plural
 
 
 def show_diffs(reports: Sequence[FileReport]) -> int:
     """Print each file's diff, say how many findings ``--fix`` would mend, and return the
     exit code: 2 for a file that could not be read, 3 for an internal error (a fix rolled
-    back), 1 when there is anything to fix, else 0."""
-    for report in reports:
-        if report.error:
-            error_line(one_line(report.error))
-        for crash in report.internal_errors:
-            error_line(f"internal error: {crash}")
+    back), 1 when there is anything to fix, else 0 (the errors themselves the run has
+    said already)."""
     try:
         for report in reports:
             if report.diff:

@@ -267,8 +267,10 @@ def _ready(registry: Registry, request: CheckRequest, formatter: Formatter | Non
 
 
 def _check_fixing(request: CheckRequest, settings: Settings) -> None:
-    """Refuse what ``--fix`` and ``--diff`` cannot do, before any input is listed: write
-    an object back to its store, or run on a cluster (whose workers would write)."""
+    """Refuse what ``--fix`` and ``--diff`` cannot do: write an object back to its store,
+    run on a cluster (whose workers would write), record a baseline. Checked with the
+    run's settings before any input is listed, and again with each file's configuration
+    (a folder's may say ``fix = true``) before any is linted."""
     mode = settings.fix_mode
     if not mode:
         return
@@ -280,6 +282,16 @@ def _check_fixing(request: CheckRequest, settings: Settings) -> None:
         raise UsageError(f"{flag} runs on this machine: it does not go with --scheduler")
     if request.write_baseline is not None:
         raise UsageError(f"{flag} does not go with --write-baseline")
+    if mode == "diff":
+        # the diff is the report: another one asked for would silently not be written
+        for given, option in (
+            (request.output, "--output"),
+            (request.reports, "--report"),
+            (request.output_format, "--output-format"),
+            (request.statistics, "--statistics"),
+        ):
+            if given:
+                raise UsageError(f"--diff prints a diff: it does not go with {option}")
 
 
 def _inputs(request: CheckRequest, resolver: Resolver) -> list[Input]:
@@ -298,6 +310,8 @@ def _plan(registry: Registry, request: CheckRequest, ready: _Ready, inputs: list
     resolver = ready.resolver
     # every file's configuration read (and refused) before any is linted
     profiles = array("q", (_profile(resolver, item, request.stdin_filename) for item in inputs))
+    for each in resolver.settings:
+        _check_fixing(request, each)
     read_only = (item.path for item in inputs if item.path is not None)
     check_outputs(
         request.output,

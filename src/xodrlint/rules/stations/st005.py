@@ -5,9 +5,10 @@ Reports a `segment` whose `@sStart` is greater than its `@sEnd` (by more than 1e
 
 ## Why is this bad?
 This is an inference: the standard gives a segment's extent as `sStart` to `sEnd` along
-the road, and its examples always run from the smaller s to the larger; which way the
-platform faces is `@side`, not the order of the two ends. Readers that take the range as
-given get an empty or negative platform.
+the road, and its examples always run from the smaller s to the larger. Its schema says
+`@side` is the side of the track "when going from sStart to sEnd", so a reversed
+segment's side reads mirrored against every other segment's. Readers that take the range
+as given get an empty or negative platform.
 
 ## Example
 ```xml
