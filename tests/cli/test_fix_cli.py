@@ -193,3 +193,9 @@ def test_diff_says_each_error_once_and_refuses_other_reports(tmp_path: Path) -> 
     for extra in (["-o", str(tmp_path / "r.json")], ["--report", f"sarif={tmp_path / 'r'}"]):
         refused = cli("check", "--diff", *extra, _copy(tmp_path), code=2)
         assert "--diff prints a diff: it does not go with" in refused.stderr
+
+
+def test_an_unknown_fixable_entry_is_a_usage_error(tmp_path: Path) -> None:
+    done = cli("check", "--fixable", "SW999", _copy(tmp_path), code=2)
+    assert "fixable: 'SW999' matches no rule code, name or UID" in done.stderr
+    cli("check", "--select", "PT003", "--unfixable", "XL", _copy(tmp_path), code=1)

@@ -48,8 +48,19 @@ class FixPolicy(NamedTuple):
 
     def fixable_codes(self, registry: Registry) -> frozenset[str]:
         """The codes whose fixes count: those ``fixable`` names more closely than
-        ``unfixable`` does (``ALL`` names every rule, an opt-in one too)."""
-        from xodrlint.rules.selection import specificity
+        ``unfixable`` does (``ALL`` names every rule, an opt-in one too). An entry that
+        names no rule is a :class:`~xodrlint.rules.selection.SelectorError`, as in
+        ``select``."""
+        from xodrlint.rules.selection import SelectorError, specificity
+
+        for token in (*self.fixable, *self.unfixable):
+            named = token.upper() == "ALL" or any(
+                specificity(token, rule) is not None or rule.code.startswith(token.upper())
+                for rule in registry.rules
+            )
+            if not named:
+                where = "fixable" if token in self.fixable else "unfixable"
+                raise SelectorError(f"{where}: '{token}' matches no rule code, name or UID")
 
         def best(tokens: Iterable[str], code: str) -> int | None:
             rule = registry.by_code[code]
