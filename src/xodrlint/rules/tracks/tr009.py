@@ -119,10 +119,12 @@ def track_length_mismatch(network: RailNetwork, settings: Settings) -> Iterator[
 
 def _length_fix(road: etree._Element, end: float) -> Fix | None:
     """``road/@length`` := where its plan view ends, written as the shortest decimal
-    that reads back as that number."""
+    that reads back as that number once a sum's rounding noise is gone (to a nanometre:
+    60.1 + 39.9 is 100, not 100.00000000000001)."""
     if not math.isfinite(end):
         return None
-    written = str(int(end)) if end.is_integer() else repr(end)
+    value = round(end, 9)
+    written = str(int(value)) if value.is_integer() else repr(value)
     return Fix(
         f"set the length to {written}, where the plan view ends",
         (set_attribute(road, "length", written),),
