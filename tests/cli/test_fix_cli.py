@@ -190,6 +190,7 @@ def test_diff_says_each_error_once_and_refuses_other_reports(tmp_path: Path) -> 
         "check", "--select", "PT003", "--diff", tmp_path / "gone.xodr", _copy(tmp_path), code=2
     )
     assert done.stderr.count("gone.xodr") == 1
+    cli("check", "--select", "PT003", "--diff", "-f", "text", _copy(tmp_path), code=1)
     for extra in (["-o", str(tmp_path / "r.json")], ["--report", f"sarif={tmp_path / 'r'}"]):
         refused = cli("check", "--diff", *extra, _copy(tmp_path), code=2)
         assert "--diff prints a diff: it does not go with" in refused.stderr

@@ -4,6 +4,7 @@ the others kept; and the writes of ``--fix`` (atomic, refused where they must be
 
 from __future__ import annotations
 
+import os
 import stat
 from collections.abc import Iterator
 from pathlib import Path
@@ -253,14 +254,16 @@ def test_a_diff_counts_lines_as_xml_does() -> None:
 def test_an_enumerated_value_is_mended_for_xml_blanks_and_plain_case_alone() -> None:
     from xodrlint.validation.messages import Explained, enumeration_fix
 
-    def fix_of(value: str) -> object:
+    def fix_of(value: str, allowed: tuple[str, ...] = ("dynamic",)) -> object:
         switch = etree.Element("switch", position=value)
-        why = Explained("m", "enumeration", "switch", attribute="position", allowed=("dynamic",))
+        why = Explained("m", "enumeration", "switch", attribute="position", allowed=allowed)
         return enumeration_fix(switch, why)
 
     assert fix_of(" Dynamic\t") is not None
     assert fix_of("dynamic\u00a0") is None  # a no-break space is no blank of XML's
     assert fix_of("DYNAMIC") is not None
+    assert fix_of("Kink", ("kink",)) is not None
+    assert fix_of("\u212aink", ("kink",)) is None  # the Kelvin sign lowers to a plain k
 
 
 def test_an_idle_entry_leaves_the_brackets_as_they_were_written() -> None:
@@ -273,3 +276,49 @@ def test_an_idle_entry_leaves_the_brackets_as_they_were_written() -> None:
     )
     fixed, report = Linter(default_registry(), options).fixed_source(data, "a.xodr")
     assert b"<!-- xodrlint: ignore[ PT003 ] why -->" in fixed and report.fixed == 1
+
+
+def test_a_folder_swapped_while_the_write_opens_its_folders_is_not_written_through(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+
+    root = tmp_path / "root"
+    (root / "sub" / "deep").mkdir(parents=True)
+    (root / "sub" / "deep" / "a.xodr").write_bytes(b"old")
+    outside = tmp_path / "outside"
+    (outside / "deep").mkdir(parents=True)
+    (outside / "deep" / "a.xodr").write_bytes(b"old")
+    real_open = os.open
+
+    def racing_open(path: object, flags: int, *args: object, **named: object) -> int:
+        # the folder becomes a link out of the walk just as the write opens it
+        if path == "sub" and not (root / "sub").is_symlink():
+            (root / "sub").rename(root / "moved")
+            (root / "sub").symlink_to(outside)
+        return real_open(path, flags, *args, **named)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(os, "open", racing_open)
+    with pytest.raises(WriteRefused, match="link leading out of the folder walked"):
+        replace_file(root / "sub" / "deep" / "a.xodr", b"old", b"new", root=root)
+    assert (outside / "deep" / "a.xodr").read_bytes() == b"old"
+
+
+def test_a_file_with_other_hard_links_is_not_parted_from_them(tmp_path: Path) -> None:
+    target = tmp_path / "a.xodr"
+    target.write_bytes(b"old")
+    (tmp_path / "b.xodr").hardlink_to(target)
+    with pytest.raises(WriteRefused, match="has 2 hard links"):
+        replace_file(target, b"old", b"new")
+    assert (tmp_path / "b.xodr").read_bytes() == b"old"
+
+
+def test_an_empty_entry_leaves_no_stray_comma() -> None:
+    data = MISMATCH.read_bytes().replace(
+        b'      <switch name="W12"',
+        b'      <!-- xodrlint: ignore[XS006,,PT003] -->\n      <switch name="W12"',
+    )
+    options = LintOptions(
+        select=("PT003", "XS006", "XL001"), fixes=FixPolicy(mode=DIFF), place_fixes=True
+    )
+    fixed, _ = Linter(default_registry(), options).fixed_source(data, "a.xodr")
+    assert b"<!-- xodrlint: ignore[PT003] -->" in fixed

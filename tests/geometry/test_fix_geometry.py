@@ -6,6 +6,7 @@ after TR005's the named end is the one whose track point meets this road's end."
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 from tests.conftest import REPO
 from xodrlint.api import default_registry
@@ -68,3 +69,30 @@ def test_after_tr005s_fix_the_named_end_meets_this_one() -> None:
             there = tracks.point(target, 0.0 if link.contact_point == "start" else target.length)
             assert here is not None and there is not None
             assert here.distance_to(there) <= 0.1
+
+
+def test_sw011s_fix_looks_along_the_plan_view_not_the_written_length(tmp_path: Path) -> None:
+    # a road that says it is 1e9 m long over a 100 m plan view: the search samples the
+    # plan view (a few hundred points), where a search along the written length took
+    # gigabytes; run under a 1 GB address-space limit, in a process of its own
+    import subprocess
+    import sys
+
+    source = (CASES / "SW011" / "invalid_side_track_ends_short.xodr").read_text("utf-8")
+    assert '<road name="main" length="100"' in source
+    target = tmp_path / "long.xodr"
+    target.write_text(
+        source.replace('<road name="main" length="100"', '<road name="main" length="1e9"')
+    )
+    script = (
+        "import resource, sys\n"
+        "resource.setrlimit(resource.RLIMIT_AS, (1 << 30, 1 << 30))\n"
+        "from xodrlint.api import lint_file\n"
+        "report = lint_file(sys.argv[1], select=['SW011'])\n"
+        "print(len(report.findings), report.internal_errors)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", script, str(target)], capture_output=True, text=True, check=False
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "1 ()"

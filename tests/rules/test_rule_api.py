@@ -108,7 +108,8 @@ RECORDED_GEOMETRY: dict[str, list[str] | None] = {
         "elements", "guessed", "pose", "problems", "record_at", "records", "s_range", "starts",
     ],
     "TrackGeometry": [
-        "lane_end_point", "lane_point", "plan_view", "plan_views", "point", "reference_line",
+        "lane_end_point", "lane_point", "nearest", "plan_view", "plan_views", "point",
+        "reference_line",
     ],
     "TrackPoint": ["direction", "distance_to", "heading", "x", "y"],
     "VerticalProfiles": ["elevation", "elevation_at", "superelevation", "tracks"],

@@ -2,14 +2,15 @@
 
 A pass lints the source, takes the fixes the policy allows (safe ones; unsafe ones too
 with ``--unsafe-fixes``; codes ``fixable`` names and ``unfixable`` does not): every safe
-one, else the unsafe ones of one rule, as many as touch no text another took. It makes
+one, and the unsafe ones of one rule, as many as touch no text another took. It makes
 their edits and lints the result. Where the result fails, the pass makes the first half
 of its fixes instead (halving while that fails): a fix that fails on its own (its result
 not well-formed, or still with the finding it was made for) is rolled back and reported
 as its rule's internal error; the others stay. Passes repeat while fixes apply, at most
 :data:`MAX_PASSES` times: a fix that reveals another defect (an unsafe one may) gets its
-own pass. Fixes that undo each other, or that still have work after the last pass, are
-an internal error too. The report is the fixed source's.
+own pass. Fixes that undo each other are an internal error too; fixes still to make after
+the last pass stay in the report, marked fixable (another ``--fix`` makes them). The
+report is the fixed source's.
 """
 
 from __future__ import annotations
@@ -103,7 +104,7 @@ def fix_source(data: bytes, lint: Lint, policy: FixPolicy) -> Fixed:
 
     report, source, _ = lint(data)
     fixed = 0
-    refused: set[tuple[str, str]] = set()  # fixes rolled back: not tried again
+    refused: set[tuple[str, str, str]] = set()  # fixes rolled back: not tried again
     crashes: list[str] = []
     seen = {data}  # every state the passes left: fixes that undo each other come back
     for _ in range(MAX_PASSES):
@@ -112,7 +113,7 @@ def fix_source(data: bytes, lint: Lint, policy: FixPolicy) -> Fixed:
             break
         outcome = _pass(report, source, chosen, lint)
         for finding, reason in outcome.rolled_back:
-            refused.add((finding.code, finding.xpath))
+            refused.add(_identity(finding))
             crashes.append(f"fix for {finding.code} produced {reason} on {report.path}")
         if outcome.applied == 0:
             continue  # the fix this pass tried was rolled back: try the ones left
@@ -125,13 +126,6 @@ def fix_source(data: bytes, lint: Lint, policy: FixPolicy) -> Fixed:
         seen.add(outcome.data)
         data, report, source = outcome.data, outcome.report, outcome.source
         fixed += outcome.applied
-    else:
-        left = _chosen(report.findings, policy, refused)
-        if left and isinstance(source, EditableSource):
-            crashes.append(
-                f"fixes did not converge on {report.path} in {MAX_PASSES} passes "
-                f"({len(left)} still to make)"
-            )
     internal = (*report.internal_errors, *crashes)
     return Fixed(report._replace(fixed=fixed, internal_errors=internal), data)
 
@@ -146,15 +140,21 @@ def diff_of(before: bytes, after: bytes, codec: str, path: str) -> str:
     return "".join(line if line.endswith(("\n", "\r")) else line + "\n" for line in lines)
 
 
+def _identity(finding: Finding) -> tuple[str, str, str]:
+    """What tells a finding's fix from another's across passes (two of one rule on one
+    element, XS006 on two attributes, differ in their message)."""
+    return finding.code, finding.xpath, finding.message
+
+
 def _chosen(
-    findings: Sequence[Finding], policy: FixPolicy, refused: set[tuple[str, str]]
+    findings: Sequence[Finding], policy: FixPolicy, refused: set[tuple[str, str, str]]
 ) -> list[Finding]:
     """The findings whose fixes this pass makes: allowed, placed, and touching no text
-    a fix before them in the report touches. The safe fixes first, all together (each
-    mends a value, a name or a comment where it stands); then the unsafe fixes of one rule
-    a pass: one rule's fixes are worked out from the network as it is, and another's may
-    change what they were worked out from (a side track moved to the end of a road whose
-    length the same pass changes)."""
+    a fix before them in the report touches. Every safe fix (each mends a value, a name or
+    a comment where it stands), and the unsafe fixes of one rule: one rule's fixes are
+    worked out from the network as it is, and another's may change what they were worked
+    out from (a side track moved to the end of a road whose length the same pass
+    changes)."""
     from xodrlint.document.edits import Edit, overlapping
 
     allowed = [
@@ -162,17 +162,19 @@ def _chosen(
         for finding in findings
         if finding.fix is not None
         and finding.fix.edits
-        and (finding.code, finding.xpath) not in refused
+        and _identity(finding) not in refused
         and (policy.unsafe or finding.fix.applicability is Applicability.SAFE)
     ]
-    safe = [f for f in allowed if f.fix is not None and f.fix.applicability is Applicability.SAFE]
-    if not safe and allowed:
-        code = allowed[0].code
-        allowed = [finding for finding in allowed if finding.code == code]
+    unsafe = [
+        f for f in allowed if f.fix is not None and f.fix.applicability is Applicability.UNSAFE
+    ]
+    code = unsafe[0].code if unsafe else None
     taken: list[Edit] = []
     chosen: list[Finding] = []
-    for finding in safe or allowed:
+    for finding in allowed:
         assert finding.fix is not None
+        if finding.fix.applicability is Applicability.UNSAFE and finding.code != code:
+            continue
         edits = [Edit(edit.start, edit.end, edit.content) for edit in finding.fix.edits]
         if overlapping([*taken, *edits]):
             continue

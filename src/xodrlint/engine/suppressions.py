@@ -179,7 +179,10 @@ def _without(directive: Directive, idle: tuple[str, ...]) -> Fix:
         return Fix("remove the suppression comment", (remove_comment(comment),))
     text = comment.text or ""
     written = match["codes"]
-    remaining = [entry for entry in written.split(",") if entry.strip() not in idle]
+    # an empty entry (``[A,,B]``) goes with the idle ones: no stray comma is left
+    remaining = [
+        entry for entry in written.split(",") if entry.strip() and entry.strip() not in idle
+    ]
     # the blanks inside the brackets as written, around the entries that are left
     lead = written[: len(written) - len(written.lstrip())]
     trail = written[len(written.rstrip()) :]

@@ -64,6 +64,12 @@ def turn_beyond(first: float, second: float, limit_degrees: float) -> float | No
     return angle if angle > math.radians(limit_degrees) + _ANGLE_SLACK else None
 
 
+#: :meth:`TrackGeometry.nearest` samples a plan view record at most this many times, and
+#: narrows the best sample's neighbourhood down in this many steps (a third each).
+_SAMPLES: Final = 200
+_NARROWING: Final = 50
+
+
 class TrackGeometry:
     """The track points of one file's roads, each road's plan view read once."""
 
@@ -185,6 +191,45 @@ class TrackGeometry:
         if not (abs(x) < MAX_COORDINATE and abs(y) < MAX_COORDINATE and math.isfinite(pose.hdg)):
             return None
         return TrackPoint(x, y, pose.hdg)
+
+    def nearest(self, road: Road, target: TrackPoint) -> tuple[float, TrackPoint] | None:
+        """The s of ``road``'s track whose point is nearest ``target``, and that point;
+        ``None`` where the track cannot be evaluated. Each record of the plan view is
+        sampled (at most :data:`_SAMPLES` points, at least every half metre on a short
+        one), then the best sample's neighbourhood is narrowed down: a bounded number of
+        points whatever the road's length says, and none of them kept in the cache."""
+        line = self.plan_view(road).line
+        end = road.length if road.length is not None else math.inf
+        if line is None:
+            return None
+
+        def distance(s: float) -> float:
+            found = self._evaluate(road, s)
+            return math.inf if found is None else found.distance_to(target)
+
+        samples: list[float] = []
+        for record in line.records:
+            stop = min(record.s + record.length, end)
+            if stop < record.s:
+                continue
+            count = min(max(1, math.ceil((stop - record.s) / 0.5)), _SAMPLES)
+            samples += [record.s + (stop - record.s) * i / count for i in range(count + 1)]
+        if not samples:
+            return None
+        distances = [distance(s) for s in samples]
+        best = min(range(len(samples)), key=distances.__getitem__)
+        if distances[best] == math.inf:
+            return None
+        low, high = samples[max(best - 1, 0)], samples[min(best + 1, len(samples) - 1)]
+        for _ in range(_NARROWING):
+            first, second = low + (high - low) / 3, high - (high - low) / 3
+            if distance(first) <= distance(second):
+                high = second
+            else:
+                low = first
+        s = (low + high) / 2
+        point = self._evaluate(road, s)
+        return None if point is None else (s, point)
 
     def _lateral(self, road: Road, s: float) -> float | None:
         """The track's t at ``s``: the single rail/tram lane's centre, else the reference

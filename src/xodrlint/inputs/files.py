@@ -4,6 +4,7 @@ file is refused, not read); a cache file is written whole or not at all."""
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
 import stat
 from collections.abc import Iterable, Iterator
@@ -113,27 +114,25 @@ class WriteRefused(Exception):
 
 def replace_file(path: Path, original: bytes, data: bytes, root: Path | None = None) -> None:
     """Replace the file ``path`` holds, read as ``original``, with ``data``: atomically
-    (a temporary file beside it, then a rename), keeping its mode. Refused
-    (:class:`WriteRefused`) for a read-only file, a file that changed since it was read,
+    (a temporary file beside it, then a rename), keeping its mode (and owner, where the
+    run may give it). Refused (:class:`WriteRefused`) for a read-only file, a file that
+    changed since it was read, a file with other hard links (a new file would part them),
     and a path that leads out of ``root`` (the folder a walk found it in) through a link,
     its own or a folder's.
 
-    The folder is opened once and every step works from that descriptor: a folder or a
-    link swapped after the check cannot turn the write elsewhere."""
+    Below ``root`` the folders are opened one by one, none through a link, and every step
+    works from the last one's descriptor: a folder or a link swapped after the check
+    cannot turn the write elsewhere."""
     import secrets
 
     target = path.resolve()
-    if root is not None and not target.is_relative_to(root.resolve()):
-        raise WriteRefused("is a link leading out of the folder walked")
     try:
-        folder = os.open(target.parent, os.O_RDONLY | os.O_DIRECTORY | _NO_FOLLOW)
+        folder = _folder_of(target, root)
     except OSError as error:
+        if root is not None and error.errno in (errno.ELOOP, errno.ENOTDIR):
+            raise WriteRefused("is a link leading out of the folder walked") from None
         raise WriteRefused(f"cannot be written: {os_reason(error)}") from None
     try:
-        same = os.fstat(folder)
-        expected = target.parent.stat()
-        if (same.st_dev, same.st_ino) != (expected.st_dev, expected.st_ino):
-            raise WriteRefused("its folder changed while it was written")
         _replace_in(folder, target.name, original, data, secrets.token_hex(6))
     except OSError as error:
         raise WriteRefused(f"cannot be written: {os_reason(error)}") from None
@@ -142,6 +141,27 @@ def replace_file(path: Path, original: bytes, data: bytes, root: Path | None = N
 
 
 _NO_FOLLOW = getattr(os, "O_NOFOLLOW", 0)
+_FOLDER = os.O_RDONLY | os.O_DIRECTORY
+
+
+def _folder_of(target: Path, root: Path | None) -> int:
+    """A descriptor of the folder ``target`` stands in: opened from ``root`` down, one
+    folder at a time and none through a link, where a walk found the file there."""
+    if root is None:
+        return os.open(target.parent, _FOLDER)
+    top = root.resolve()
+    if not target.is_relative_to(top):
+        raise WriteRefused("is a link leading out of the folder walked")
+    folder = os.open(top, _FOLDER)
+    try:
+        for part in target.parent.relative_to(top).parts:
+            inner = os.open(part, _FOLDER | _NO_FOLLOW, dir_fd=folder)
+            os.close(folder)
+            folder = inner
+    except BaseException:
+        os.close(folder)
+        raise
+    return folder
 
 
 def _replace_in(folder: int, name: str, original: bytes, data: bytes, token: str) -> None:
@@ -149,6 +169,8 @@ def _replace_in(folder: int, name: str, original: bytes, data: bytes, token: str
     try:
         current = os.open(name, os.O_RDONLY | _NO_FOLLOW | os.O_NONBLOCK, dir_fd=folder)
     except OSError as error:
+        if error.errno == errno.ELOOP:
+            raise WriteRefused("is a link leading out of the folder walked") from None
         raise WriteRefused(f"cannot be read again: {os_reason(error)}") from None
     with os.fdopen(current, "rb") as stream:
         status = os.fstat(current)
@@ -158,7 +180,9 @@ def _replace_in(folder: int, name: str, original: bytes, data: bytes, token: str
             raise WriteRefused("changed on disk since it was read")
     if not status.st_mode & 0o222 or not os.access(name, os.W_OK, dir_fd=folder):
         raise WriteRefused("is read-only")
-    temporary = f".{name}.{token}.tmp"
+    if status.st_nlink > 1:
+        raise WriteRefused(f"has {status.st_nlink} hard links: a new file would part them")
+    temporary = f".xodrlint-{token}.tmp"  # short: a name near the limit still fits
     handle = os.open(
         temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL | _NO_FOLLOW, 0o600, dir_fd=folder
     )
@@ -167,6 +191,8 @@ def _replace_in(folder: int, name: str, original: bytes, data: bytes, token: str
             stream.write(data)
             stream.flush()
             os.fchmod(stream.fileno(), stat.S_IMODE(status.st_mode))
+            with contextlib.suppress(OSError):  # only the owner's own, or root, may
+                os.fchown(stream.fileno(), status.st_uid, status.st_gid)
             os.fsync(stream.fileno())
         os.replace(temporary, name, src_dir_fd=folder, dst_dir_fd=folder)
     except BaseException:

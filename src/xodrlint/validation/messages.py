@@ -328,8 +328,10 @@ def enumeration_fix(element: etree._Element, why: Explained) -> Fix | None:
     if value is None:
         return None
     # XML's blanks and plain case: a no-break space, or a long s, is no spelling of a value
-    wanted = value.strip(" \t\r\n").lower()
-    matches = [allowed for allowed in why.allowed if allowed.lower() == wanted]
+    wanted = value.strip(" \t\r\n")
+    if not wanted.isascii():  # the Kelvin sign lowers to a "k": no spelling of a value
+        return None
+    matches = [allowed for allowed in why.allowed if allowed.lower() == wanted.lower()]
     if len(matches) != 1 or matches[0] == value:
         return None
     return Fix(

@@ -287,7 +287,7 @@ def _check_fixing(request: CheckRequest, settings: Settings) -> None:
         for given, option in (
             (request.output, "--output"),
             (request.reports, "--report"),
-            (request.output_format, "--output-format"),
+            (request.output_format not in (None, "text"), "--output-format"),
             (request.statistics, "--statistics"),
         ):
             if given:

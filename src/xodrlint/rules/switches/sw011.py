@@ -61,7 +61,6 @@ bad values).
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterator
 from typing import TYPE_CHECKING, Final
 
@@ -70,7 +69,6 @@ from xodrlint.rules import (
     Fix,
     Hit,
     RailNetwork,
-    Road,
     RuleOption,
     Settings,
     Severity,
@@ -82,7 +80,7 @@ from xodrlint.rules._shared import S_TOLERANCE, S_TOLERANCE_OPTION, beyond, metr
 from xodrlint.rules.switches._geometry import switches_with_points
 
 if TYPE_CHECKING:
-    from xodrlint.rules.geometry import TrackGeometry, TrackPoint
+    from xodrlint.rules.geometry import TrackPoint
 
 TOLERANCE: Final = RuleOption(
     name="switch-tolerance",
@@ -119,12 +117,6 @@ def switch_tracks_apart(network: RailNetwork, settings: Settings) -> Iterator[Hi
             )
 
 
-#: The nearest point is first sought among points this far apart (m) along the main
-#: track, then refined between the two beside the best.
-_STEP: Final = 0.5
-_REFINED: Final = 60
-
-
 def _moved_main_track(
     network: RailNetwork, switch: Switch, side: TrackPoint, tolerance: float
 ) -> Fix | None:
@@ -138,10 +130,10 @@ def _moved_main_track(
     if main_track is None or road is None or road.length is None:
         return None
     tracks = network.shared(TrackGeometry)
-    nearest = _nearest_s(tracks, road, side)
-    if nearest is None:
+    nearest = tracks.nearest(road, side)
+    if nearest is None or nearest[1].distance_to(side) > tolerance:
         return None
-    written = f"{nearest:.6f}".rstrip("0").rstrip(".")
+    written = f"{nearest[0]:.6f}".rstrip("0").rstrip(".")
     moved = tracks.point(road, float(written))
     if moved is None or moved.distance_to(side) > tolerance:
         return None
@@ -150,26 +142,3 @@ def _moved_main_track(
         (set_attribute(main_track.element, "s", written),),
         Applicability.UNSAFE,
     )
-
-
-def _nearest_s(tracks: TrackGeometry, road: Road, target: TrackPoint) -> float | None:
-    """The s of ``road`` whose track point is nearest ``target``."""
-    length = road.length or 0.0
-    count = max(1, math.ceil(length / _STEP))
-
-    def distance(s: float) -> float:
-        found = tracks.point(road, s)
-        return math.inf if found is None else found.distance_to(target)
-
-    samples = [length * i / count for i in range(count + 1)]
-    best = min(range(len(samples)), key=lambda i: distance(samples[i]))
-    if distance(samples[best]) == math.inf:
-        return None
-    low, high = samples[max(best - 1, 0)], samples[min(best + 1, count)]
-    for _ in range(_REFINED):  # a golden-section search would take fewer; this is plain
-        first, second = low + (high - low) / 3, high - (high - low) / 3
-        if distance(first) <= distance(second):
-            high = second
-        else:
-            low = first
-    return (low + high) / 2
