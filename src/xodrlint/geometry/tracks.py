@@ -195,9 +195,9 @@ class TrackGeometry:
     def nearest(self, road: Road, target: TrackPoint) -> tuple[float, TrackPoint] | None:
         """The s of ``road``'s track whose point is nearest ``target``, and that point;
         ``None`` where the track cannot be evaluated. Each record of the plan view is
-        sampled (at most :data:`_SAMPLES` points, at least every half metre on a short
-        one), then the best sample's neighbourhood is narrowed down: a bounded number of
-        points whatever the road's length says, and none of them kept in the cache."""
+        sampled (every half metre, at most 200 points a record), then the best sample's
+        neighbourhood is narrowed down: a bounded number of points whatever the road's
+        length says, and none of them kept in the cache. Rule API 1.3."""
         line = self.plan_view(road).line
         end = road.length if road.length is not None else math.inf
         if line is None:
