@@ -392,6 +392,9 @@ class FileReport(NamedTuple):
     """Set when the schema was given for every version and is not the file's own: the
     file declares another version (a 1.4 file checked with a 1.7 set passes where its
     own set would not), and every report says so."""
+    schema_route: str | None = None
+    """Where an XSD 1.1 set's assertions ran (libxml2's XPath, or xmlschema for those
+    that do not translate): ``check --verbose`` shows it."""
     timings: Mapping[str, float] = NO_ENTRIES
     """Seconds each stage took (``read``, ``parse``, ``model``, ``rules``,
     ``validation``: beside the model and the rules, ``waiting for validation``: after

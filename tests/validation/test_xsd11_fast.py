@@ -5,17 +5,24 @@ cache of derived schema forms is written once, keyed by content, and optional.""
 
 from __future__ import annotations
 
+import json
 import re
 import shutil
+import subprocess
+import sys
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from lxml import etree
+from typer.testing import CliRunner
 
 from tests.conftest import CORPUS_RAIL, REPO, SHARED, SHARED_SCHEMAS, needs_shared
+from xodrlint.cli import app
 from xodrlint.concurrency import background
 from xodrlint.document.load import Document, load_bytes
 from xodrlint.findings import Hit
@@ -24,10 +31,13 @@ from xodrlint.validation.sets import SchemaFinder, SchemaLoadError, SchemaSet
 from xodrlint.validation.source import XS
 from xodrlint.validation.validators import SchemaValidators
 from xodrlint.validation.xsd11 import fast as xsd11_fast
+from xodrlint.validation.xsd11 import translation as translation_module
 from xodrlint.validation.xsd11.alternatives import holds_a_site
 from xodrlint.validation.xsd11.fast import FastXsd11Validator, xsd11_validator
 from xodrlint.validation.xsd11.form import CACHE_DIR_ENV, derive_xsd10, xsd10_form
 from xodrlint.validation.xsd11.full import Xsd11Validator
+from xodrlint.validation.xsd11.selectors import Selectors
+from xodrlint.validation.xsd11.wording import assertion_message
 
 XSD11_SETS = ("1.8.0", "1.8.1", "1.9.0")
 LARGE = SHARED / "corpus" / "large"
@@ -95,9 +105,16 @@ def _seen(doc: Document, hits: list[Hit]) -> tuple[set[Seen], set[tuple[Seen, st
         else:
             where = (hit.line or 1, "/", hit.kind)
         found.add(where)
-        if hit.kind in ("keyref", "duplicate") or "assertion" in hit.message:
+        if hit.kind in ("keyref", "duplicate") or _is_assertion(hit):
             worded.add((where, hit.message))
     return found, worded
+
+
+def _is_assertion(hit: Hit) -> bool:
+    """Is the hit a failed assertion of an official set, worded as such?"""
+    return hit.element is not None and any(
+        hit.message == assertion_message(hit.element, test) for test in ALL_ASSERTIONS
+    )
 
 
 def _same_findings(pair: Pair, data: bytes, name: str) -> set[Seen]:
@@ -378,6 +395,14 @@ def _schema_tests(version: str, tag: str) -> set[tuple[str, str]]:
     return found
 
 
+#: The test of every assertion of the official sets.
+ALL_ASSERTIONS = (
+    {test for version in XSD11_SETS for _, test in _schema_tests(version, "assert")}
+    if SHARED.is_dir()
+    else set()
+)
+
+
 def _document(version: str, parts: dict[str, str]) -> bytes:
     filled = {"lateral": "", "lanes": LANES.format(attrs="", offset="", section="", width=WIDTH)}
     filled |= {"objects": "", "signals": "", "junctions": ""} | parts
@@ -414,7 +439,7 @@ def test_every_assertion_broken_gives_the_same_findings(
         assert element is not None, target
         where = (doc.line_of(element), doc.xpath_of(element))
         assertion = [h for h in pairs[version].full.hits(doc) if h.element is element]
-        assert any("assertion" in h.message or "[err:" in h.message for h in assertion), (
+        assert any(h.message == assertion_message(element, test) for h in assertion), (
             f"{version}: the mutation does not break {owner}: {test}"
         )
         assert (*where, "other") in found
@@ -841,3 +866,217 @@ def test_the_assertions_run_before_the_caller_joins_libxml2s_thread(
 
     assert finish(joined) == []
     assert order == ["assertions", "libxml2 joined"]
+
+
+# -- the assertions and type alternatives translated into libxml2's XPath ------------------
+
+
+@pytest.mark.parametrize("version", XSD11_SETS)
+def test_every_official_assertion_and_alternative_translates(version: str) -> None:
+    with xsd10_form(_entry(version)) as form:
+        assert form.translation is not None
+        selectors = Selectors(form.translation)
+    assert selectors.untranslated == []
+    assert len(selectors.translated) == len(
+        {(owner, test) for owner, test in _schema_tests(version, "assert")}
+    )
+    assert selectors.marks_known
+
+
+@pytest.mark.parametrize("version", XSD11_SETS)
+def test_assertions_need_no_xmlschema_model_where_every_value_is_plain(version: str) -> None:
+    fast = xsd11_validator(_entry(version), Libxml2Validator)
+    assert isinstance(fast, FastXsd11Validator)
+    broken = 0
+    for owner, test in sorted(_schema_tests(version, "assert")):
+        parts, target = _assert_case(owner, test)
+        doc = load_bytes(_document(version, parts), "mutated")
+        assert doc.tree is not None
+        hits = list(fast.hits(doc))
+        if target:
+            element = doc.tree.getroot().find(target)
+            assert any(h.element is element for h in hits), (owner, test)
+            broken += 1
+        assert fast._model is None and fast._full is None, f"xmlschema was needed: {test}"
+    assert broken > 0
+
+
+def test_an_uncertain_value_is_judged_by_xmlschema(pairs: dict[str, Pair]) -> None:
+    fast = xsd11_validator(_entry("1.9.0"), Libxml2Validator)
+    assert isinstance(fast, FastXsd11Validator)
+    repeat = (
+        '<repeat s="0" length="1" distance="{d}" tStart="0" tEnd="0" heightStart="1"'
+        ' heightEnd="1" zOffsetStart="0" zOffsetEnd="0"/>'
+    )
+    for value, model in (("5", False), ("1e3", True)):
+        doc = load_bytes(
+            _document("1.9.0", _object('type="barrier"', repeat.format(d=value))), value
+        )
+        assert [h.element.tag for h in fast.hits(doc) if h.element is not None] == ["object"]
+        assert (fast._model is not None) is model
+
+
+def test_an_untranslated_assertion_keeps_xmlschemas_route(
+    cache: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # a translation whose XPath of one assertion was refused: that assertion alone runs
+    # in xmlschema, and the findings stay those of full validation
+    real = translation_module.Translator.assertion
+
+    def refusing(self: Any, token: Any) -> tuple[str, str]:
+        if "laneOffset" in str(token.source):
+            raise translation_module.Untranslatable("refused by the test")
+        return real(self, token)
+
+    monkeypatch.setattr(translation_module.Translator, "assertion", refusing)
+    fast = xsd11_validator(_entry("1.9.0"), Libxml2Validator)
+    assert isinstance(fast, FastXsd11Validator)
+    assert "in xmlschema: t_road_lanes" in fast.route
+    assert "refused by the test" in fast.route
+    full = Xsd11Validator(_entry("1.9.0"))
+    lanes = {"lanes": LANES.format(attrs="", offset=OFFSET, section="", width=BORDER)}
+    for parts in (lanes, _object('type="pole" width="1"')):
+        data = _document("1.9.0", parts)
+        _same_findings(Pair(full, fast), data, "partly translated")
+    assert fast._model is not None
+
+
+def test_a_translation_libxml2_cannot_compile_leaves_the_checks_to_xmlschema(
+    cache: Path,
+) -> None:
+    with xsd10_form(_entry("1.9.0")) as form:
+        assert form.translation is not None
+        broken = json.loads(json.dumps(form.translation))
+    broken["types"][0]["assertions"][0]["fails"] = "not((("
+    assert form.entry is not None
+    fast = FastXsd11Validator(
+        _entry("1.9.0"), Libxml2Validator(form.entry), replace(form, translation=broken)
+    )
+    assert fast.selectors() is None
+    assert "no translation" in fast.route
+    data = _document("1.9.0", _junction("", _twice('connectingRoad="2"')))
+    _same_findings(Pair(Xsd11Validator(_entry("1.9.0")), fast), data, "broken translation")
+
+
+@pytest.mark.parametrize("version", XSD11_SETS)
+def test_each_official_assertion_is_worded(version: str) -> None:
+    element = etree.Element("object", type="barrier")
+    for _, test in _schema_tests(version, "assert"):
+        message = assertion_message(element, test)
+        assert "fails the schema's assertion" not in message, test
+        assert test not in message
+    other = "count(a) = 2"
+    assert assertion_message(element, other) == "'object' fails the schema's assertion count(a) = 2"
+
+
+def test_duplicate_connection_ids_are_named() -> None:
+    junction = etree.fromstring(
+        '<junction><connection id="1"/><connection id="2"/><connection id="1"/></junction>'
+    )
+    message = assertion_message(
+        junction, "count(connection/@id) = count(distinct-values(connection/@id))"
+    )
+    assert message == "'junction' has connections that share an @id ('1'); each must be unique"
+
+
+_KINDS = ["barrier", "building", "crosswalk", "gantry", "obstacle", "parkingSpace", "pole"]
+_KINDS += ["roadMark", "roadSurface", "trafficIsland", "tree", "vegetation", "none"]
+_CHILDREN = {
+    "marking": '<markings><marking color="white" spaceLength="1" lineLength="1" startOffset="0"'
+    ' stopOffset="0" side="left"/></markings>',
+    "border": '<borders><border width="0.1" type="concrete" outlineId="0"'
+    ' useCompleteOutline="true"/></borders>',
+    "material": '<material friction="0.5"/>',
+    "parkingSpace": _PARKING,
+    "skeleton": '<skeleton><polyline id="0"><vertexLocal id="0" u="0" v="0" z="0"/>'
+    '<vertexLocal id="1" u="1" v="0" z="0"/></polyline></skeleton>',
+}
+_NUMBERS = ["0", "-0", "0.0", "5", ".5", "5.", "-5", " 0 ", "\t1\n", "1e3", "INF", "-INF"]
+_NUMBERS += ["NaN", " NaN ", "abc", "", "+5", "0x1", "1 2"]
+
+
+@st.composite
+def _mutated_parts(draw: st.DrawFn) -> dict[str, str]:
+    """A file part around the assertions: an object of any kind with or without each
+    child and size attribute and a repeat distance of any spelling; a junction with
+    connection ids that may repeat; lanes with or without an offset and borders; a
+    signal that may be a multiBoard; a lateral profile with any of its children."""
+    size = "".join(
+        f' {name}="{draw(st.sampled_from(_NUMBERS))}"'
+        for name in ("radius", "width", "length")
+        if draw(st.booleans())
+    )
+    body = "".join(part for part in _CHILDREN.values() if draw(st.booleans()))
+    if draw(st.booleans()):
+        body += (
+            f'<repeat s="0" length="1" distance="{draw(st.sampled_from(_NUMBERS))}" tStart="0"'
+            ' tEnd="0" heightStart="1" heightEnd="1" zOffsetStart="0" zOffsetEnd="0"/>'
+        )
+    kind = draw(st.sampled_from(_KINDS))
+    parts = _object(f'type="{kind}"{size}', body)
+    ids = draw(st.lists(st.sampled_from(["1", "2", " 1", "1 ", "01"]), max_size=4))
+    junction_type = draw(st.sampled_from(["", 'type="direct"', 'type="virtual"', 'type="x"']))
+    road = 'linkedRoad="2"' if "direct" in junction_type else 'connectingRoad="2"'
+    parts |= _junction(
+        junction_type, "".join(CONNECTION.format(id=i, attrs=road, body="") for i in ids)
+    )
+    offset = OFFSET if draw(st.booleans()) else ""
+    layer = draw(st.sampled_from(["", ' layer="permanent"', ' layer=" permanent"']))
+    section = ' length="10"' if draw(st.booleans()) else ""
+    width = draw(st.sampled_from([WIDTH, BORDER]))
+    parts["lanes"] = LANES.format(attrs=layer, offset=offset, section=section, width=width)
+    dynamic = draw(st.sampled_from(["yes", "no", "true", " true", "1"]))
+    boards = "".join(draw(st.sets(st.sampled_from(["<vmsBoard/>", "<staticBoard/>"]))))
+    signal_type = draw(st.sampled_from(["multiBoard", "205", " multiBoard"]))
+    parts["signals"] = (
+        f'<signal id="5" s="1" t="0" zOffset="0" dynamic="{dynamic}" orientation="+"'
+        f' type="{signal_type}" subtype="-1" country="DE">{boards}</signal>'
+    )
+    return parts
+
+
+@pytest.mark.parametrize("version", ["1.8.1", "1.9.0"])
+@settings(
+    max_examples=40,
+    deadline=None,
+    suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow],
+)
+@given(parts=_mutated_parts())
+def test_mutated_documents_give_the_findings_of_full_validation(
+    pairs: dict[str, Pair], version: str, parts: dict[str, str]
+) -> None:
+    _same_findings(pairs[version], _document(version, parts), repr(parts))
+
+
+def test_a_run_whose_assertions_all_translate_never_imports_xmlschema(
+    cache: Path, tmp_path: Path
+) -> None:
+    # a junction (marks), an object breaking its assertion, a 1.9 header: the first run
+    # derives the form (xmlschema builds the set once), the second needs no xmlschema
+    parts = _object('type="pole" width="1"') | ALTERNATIVE_CASES["junction", "@type='direct'"]
+    path = tmp_path / "map.xodr"
+    path.write_bytes(_document("1.9.0", parts))
+    script = (
+        "import sys\n"
+        "from xodrlint.api import lint_file\n"
+        f"report = lint_file({str(path)!r}, schema={str(SHARED_SCHEMAS / '1.9.0')!r})\n"
+        "messages = [f.message for f in report.findings if f.code == 'XS006']\n"
+        "print(any('@radius alone' in m for m in messages), len(messages) > 1,"
+        " 'xmlschema' in sys.modules, 'elementpath' in sys.modules)\n"
+    )
+    runs = [
+        subprocess.run(
+            [sys.executable, "-c", script], capture_output=True, text=True, check=True
+        ).stdout.split()
+        for _ in range(2)
+    ]
+    assert runs[0][:2] == ["True", "True"], runs[0]
+    assert runs[1] == ["True", "True", "False", "False"], runs[1]
+
+
+def test_verbose_says_where_the_assertions_ran(cache: Path, tmp_path: Path) -> None:
+    path = tmp_path / "map.xodr"
+    path.write_bytes(_document("1.9.0", {}))
+    schema = str(SHARED_SCHEMAS / "1.9.0")
+    result = CliRunner().invoke(app, ["check", "-v", "--schema", schema, str(path)])
+    assert "assertions: 24 in libxml2's XPath" in result.stderr, result.stderr

@@ -460,6 +460,7 @@ class Linter:
             internal_errors=tuple(crashes),
             suppressed=tuple(withheld) if self.options.keep_suppressed else (),
             schema_note=schema_note,
+            schema_route=check.route if check is not None else None,
             timings=clock.stop(),
             rules_not_applied=tuple(sorted(not_applied)),
             schema_errors_hidden=hidden,

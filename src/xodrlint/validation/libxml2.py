@@ -26,6 +26,7 @@ from xodrlint.validation.libxml2_direct import SchemaError, direct_schema
 from xodrlint.validation.messages import (
     Explained,
     TypeCatalog,
+    blank_special_number,
     enumeration_fix,
     explain_libxml2,
 )
@@ -402,6 +403,9 @@ def errors_to_hits(
     firsts = FirstHolders(catalog)
     for why, element, line in explained:
         if why.kind == "key_field" and element is not None and id(element) in missing:
+            continue
+        value = element.get(why.attribute) if element is not None and why.attribute else None
+        if blank_special_number(why, value, catalog):
             continue
         first = firsts.of(element, why) if why.kind == "duplicate" else None
         yield Hit(

@@ -73,6 +73,21 @@ class TypeCatalog(NamedTuple):
             return None
         return (selector.get("xpath", "").strip(), " and ".join(fields))
 
+    def bounds(self, type_name: str, depth: int = 0) -> frozenset[str]:
+        """The bounding facets (``min``, ``max``) of ``type_name`` and of the types it
+        restricts."""
+        simple = self.types.get(type_name.rpartition(":")[2])
+        restriction = simple.find(f"{{{XS}}}restriction") if simple is not None else None
+        if restriction is None or depth > 4:
+            return frozenset()
+        found = {
+            side
+            for side in ("min", "max")
+            for kind in ("Inclusive", "Exclusive")
+            if restriction.find(f"{{{XS}}}{side}{kind}") is not None
+        }
+        return frozenset(found) | self.bounds(restriction.get("base", ""), depth + 1)
+
     def describe(self, type_name: str, depth: int = 0) -> str | None:
         """What values ``type_name`` accepts, in words; ``None`` if unknown."""
         local = type_name.rpartition(":")[2]
@@ -209,6 +224,8 @@ class Explained(NamedTuple):
     """The attribute the error is about, where it is about one."""
     allowed: tuple[str, ...] = ()
     """An enumeration's values, every one (the message shows the first few)."""
+    value_type: str | None = None
+    """The simple type a value is not valid for, where libxml2 names it."""
 
 
 def explain_libxml2(raw: str, catalog: TypeCatalog, version: str | None) -> Explained:
@@ -232,6 +249,7 @@ def explain_libxml2(raw: str, catalog: TypeCatalog, version: str | None) -> Expl
             fields.get("k"),
             attr,
             tuple(_enumeration(fields["set"])) if kind == "enumeration" else (),
+            fields.get("type"),
         )
     if re.match(_ABSTRACT, body):
         # the element's declared type is abstract and nothing chose a concrete one; libxml2
@@ -240,6 +258,28 @@ def explain_libxml2(raw: str, catalog: TypeCatalog, version: str | None) -> Expl
     if "evaluate to a node" in body:
         return Explained(f"{where}: {sentence(body)}", "key_field", element)
     return Explained(f"{where}: {sentence(body)}", "other", element)
+
+
+#: XML's blanks, which XSD collapses around a number before reading it.
+_XML_BLANKS: Final = " \t\n\r"
+
+
+def blank_special_number(why: Explained, value: str | None, catalog: TypeCatalog) -> bool:
+    """Is this libxml2's error for a number XSD accepts: ``NaN``, ``INF`` or ``-INF``
+    with blanks after it? libxml2 refuses those blanks, though XSD collapses them for
+    xs:double and xs:float as for any number (it accepts ``" 1 "``, and ``" INF"``). The
+    value read without them is judged as libxml2 judges it written so: NaN meets any
+    bound, INF breaks only a maximum and -INF only a minimum."""
+    if why.kind != "type" or value is None or why.value_type is None:
+        return False
+    number = value.strip(_XML_BLANKS)
+    if number == value or number not in ("NaN", "INF", "-INF"):
+        return False
+    simple = catalog.types.get(why.value_type.rpartition(":")[2])
+    if simple is not None and simple.find(f"{{{XS}}}restriction") is None:
+        return False  # a union or a list: left to libxml2
+    bounds = catalog.bounds(why.value_type)
+    return number == "NaN" or ("max" if number == "INF" else "min") not in bounds
 
 
 def _render(

@@ -35,6 +35,9 @@ class SchemaCheck(NamedTuple):
     seconds: float | None = None
     """The time validating took (its parts beside the caller and in it, without waits);
     ``None`` where a forked child did the first part, whose clock stayed there."""
+    route: str | None = None
+    """Where an XSD 1.1 set's own checks ran (libxml2's XPath, xmlschema), for
+    ``check --verbose``."""
 
 
 class Validator(Protocol):
@@ -133,7 +136,8 @@ class SchemaValidators:
             began = time.perf_counter()
             found = tuple(finish(_timed(hits.result, waited)))
             own = time.perf_counter() - began - sum(waited)
-            return SchemaCheck(schema, found, beside[0] + own if beside else None)
+            seconds = beside[0] + own if beside else None
+            return SchemaCheck(schema, found, seconds, getattr(validator, "route", None))
 
         return Pending(check)
 

@@ -54,6 +54,8 @@ def describe_file(report: FileReport) -> None:
     ]
     if report.schema_note:
         facts.append(report.schema_note)
+    if report.schema_route:
+        facts.append(report.schema_route)
     facts.append(_stages(report.timings))
     error_line(f"{one_line(report.path)}: {'; '.join(facts)}")
 

@@ -13,8 +13,12 @@ corpus and on mutated files):
   by, and which elements the 1.1-only checks visit;
 - :mod:`~xodrlint.validation.xsd11.alternatives`: type alternatives handed to libxml2
   as ``xsi:type`` marks;
-- :mod:`~xodrlint.validation.xsd11.assertions`: ``xs:assert`` evaluated on just the
-  elements whose type carries one;
+- :mod:`~xodrlint.validation.xsd11.translation` and
+  :mod:`~xodrlint.validation.xsd11.selectors`: ``xs:assert`` and the type alternatives'
+  tests translated into XPath 1.0 once per set, run by libxml2;
+- :mod:`~xodrlint.validation.xsd11.assertions`: ``xs:assert`` evaluated by xmlschema on
+  just the elements whose type carries one, for what does not translate;
+- :mod:`~xodrlint.validation.xsd11.wording`: a failed assertion in words;
 - :mod:`~xodrlint.validation.xsd11.recovery`: the subtrees libxml2 stops looking at,
   validated again as XSD 1.1 does;
 - :mod:`~xodrlint.validation.xsd11.full`: full validation with xmlschema, the reference

@@ -9,7 +9,7 @@ and the set is validated in full.
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any, Final
 
@@ -51,12 +51,15 @@ class TypeAssertions:
     whole: tuple[Any, ...]
 
 
-def type_assertions(xsd_type: Any) -> TypeAssertions:
+def type_assertions(xsd_type: Any, keep: Callable[[Any], bool] = bool) -> TypeAssertions:
+    """The type's assertions that ``keep`` keeps, grouped."""
     pruned: list[Any] = []
     whole: list[Any] = []
     elements: set[str] = set()
     attributes: set[str] = set()
     for assertion in xsd_type.assertions:
+        if not keep(assertion):
+            continue
         check_bounded(assertion)
         names = XPathNames()
         try:
@@ -177,11 +180,13 @@ def assertion_errors(
     them."""
     from xmlschema import XMLSchemaValidationError
 
+    if not (group.pruned or group.whole):
+        return
     text = element.text if xsd_type.has_simple_content() else None
     outcome: list[tuple[Any, str]] = []
     if group.pruned:
         kept = _kept_nodes(element, group.elements)
-        key = (id(xsd_type), _signature(element, kept, group.attributes), text)
+        key = (id(group), _signature(element, kept, group.attributes), text)
         shared = memo.get(key)
         if shared is None:
             copy = _pruned(element, kept, group.attributes)

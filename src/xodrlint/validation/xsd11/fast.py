@@ -10,7 +10,11 @@ also asks for. :class:`FastXsd11Validator` runs one document:
    alternative and which carry assertions;
 2. libxml2 on the form, with the alternatives' ``xsi:type`` marks
    (:mod:`~xodrlint.validation.xsd11.alternatives`);
-3. the assertions (:mod:`~xodrlint.validation.xsd11.assertions`);
+3. the assertions: those translated into XPath 1.0 run in libxml2
+   (:mod:`~xodrlint.validation.xsd11.selectors`), which also finds the type marks of
+   step 1; xmlschema's model (:mod:`~xodrlint.validation.xsd11.assertions`, unpickled or
+   built only then) evaluates what does not translate and the elements whose values the
+   translation cannot read exactly (a number written ``1e3``);
 4. what libxml2 skipped, validated again (:mod:`~xodrlint.validation.xsd11.recovery`).
 
 Anything the fast path cannot reproduce raises
@@ -58,6 +62,8 @@ from xodrlint.validation.xsd11.assertions import assertion_errors
 from xodrlint.validation.xsd11.form import Xsd10Form, full_validator, xsd10_form
 from xodrlint.validation.xsd11.governing import Plan, SchemaModel
 from xodrlint.validation.xsd11.recovery import Subtrees, as_xsd11, root_identities, skipped_subtrees
+from xodrlint.validation.xsd11.selectors import Selectors
+from xodrlint.validation.xsd11.wording import assertion_message
 
 #: ``full`` validates XSD 1.1 sets with xmlschema alone (slow; the reference behaviour).
 MODE_ENV: Final = "XODRLINT_XSD11"
@@ -112,6 +118,8 @@ class FastXsd11Validator:
         self._full: Any = None
         self._model: SchemaModel | None = None
         self._unsupported: str | None = None
+        self._selectors: Selectors | None = None
+        self._selectors_read = False
 
     @property
     def full(self) -> Any:
@@ -120,10 +128,40 @@ class FastXsd11Validator:
             self._full = full_validator(self.entry, self.form)
         return self._full
 
+    def selectors(self) -> Selectors | None:
+        """The set's assertions and type alternatives in XPath 1.0, compiled (``None``
+        where the form has no translation, or one libxml2 does not compile)."""
+        if not self._selectors_read:
+            self._selectors_read = True
+            translation = self.form.translation
+            if translation is not None:
+                # the manifest's shape was checked; XPath it holds that does not compile
+                # leaves the checks to xmlschema, as a form without a translation does
+                with contextlib.suppress(etree.XPathError, KeyError, TypeError, ValueError):
+                    self._selectors = Selectors(translation)
+        return self._selectors
+
+    @property
+    def route(self) -> str:
+        """Which checks run where, for ``check --verbose``."""
+        selectors = self.selectors()
+        if not self.form.asserts:
+            return "XSD 1.1 checks: libxml2"
+        if selectors is None:
+            return f"assertions: {self.form.asserts} in xmlschema (no translation cached)"
+        words = [f"assertions: {len(selectors.translated)} in libxml2's XPath"]
+        for type_name, test, why in selectors.untranslated:
+            words.append(f"in xmlschema: {type_name} {test!r} ({why})")
+        if not selectors.marks_known:
+            words.append(f"type alternatives in xmlschema ({selectors.why_not_marks})")
+        return "; ".join(words)
+
     def model(self) -> SchemaModel:
         if self._model is None:
+            selectors = self.selectors()
+            translated = frozenset(selectors.translated) if selectors is not None else frozenset()
             try:
-                self._model = SchemaModel(self.full.schema)
+                self._model = SchemaModel(self.full.schema, translated)
             except NeedsFull as why:
                 self._unsupported = str(why)
                 raise
@@ -197,14 +235,27 @@ class FastXsd11Validator:
             return list(self.full.hits(doc))
 
     def _prepare(self, doc: Document, root: etree._Element) -> tuple[SchemaModel | None, Plan]:
+        """What the 1.1-only checks do in this document: libxml2's XPath runs the
+        translated assertions and type alternatives; xmlschema's model (built or unpickled
+        only then) is needed for what does not translate and for elements the
+        translation cannot judge exactly."""
         if self._unsupported is not None:
             raise NeedsFull(self._unsupported)
         if needs_xsd11_reading(doc, root):
             raise NeedsFull("the file uses xsi:type, xsi:nil or '+INF'")
-        needs_model = self.form.asserts or self.form.alternatives
-        model = self.model() if needs_model else None
-        plan = model.plan(root) if model is not None else Plan([], [])
-        return model, plan
+        if not (self.form.asserts or self.form.alternatives):
+            return None, Plan([], [])
+        selectors = self.selectors()
+        if selectors is None:
+            model = self.model()
+            return model, model.plan(root)
+        checked = selectors.check(root)
+        marks = selectors.marks(root) if selectors.marks_known else None
+        if marks is not None and not selectors.untranslated and not checked.uncertain:
+            return None, Plan(marks, [], checked)
+        model = self.model()
+        plan = model.plan(root)
+        return model, Plan(plan.marks if marks is None else marks, plan.asserted, checked)
 
     def _fast_hits(self, doc: Document) -> Iterator[Hit]:
         assert doc.tree is not None
@@ -217,23 +268,35 @@ class FastXsd11Validator:
     def _assertion_hits(
         self, root: etree._Element, model: SchemaModel | None, plan: Plan
     ) -> list[Hit]:
-        """A hit for each failing assertion of the elements ``plan`` found."""
+        """A hit for each failing assertion of the elements ``plan`` found: those the
+        translated assertions found, and those xmlschema finds where it evaluates them."""
+        hits = []
+        uncertain: set[etree._Element] = set()
+        if plan.checked is not None:
+            hits = [
+                Hit(element, assertion_message(element, test), kind="other")
+                for element, test in plan.checked.failed
+            ]
+            uncertain = set(plan.checked.uncertain)
         if model is None:
-            return []
+            return hits
         memo: dict[Any, Any] = {}
         try:
             errors = [
                 error
                 for element, xsd_type in plan.asserted
                 for error in assertion_errors(
-                    model.assertions_of(xsd_type), element, xsd_type, memo
+                    model.assertions_of(xsd_type, every=element in uncertain),
+                    element,
+                    xsd_type,
+                    memo,
                 )
             ]
         except NeedsFull:
             raise
         except Exception as error:  # (a subtree libxml2 skipped may hold anything)
             raise NeedsFull(f"an assertion could not be evaluated: {error}") from error
-        return list(self.full.error_hits(root, errors)) if errors else []
+        return [*hits, *self.full.error_hits(root, errors)] if errors else hits
 
     def _checked(self, root: etree._Element, raw: list[Hit], asserted: list[Hit]) -> Iterator[Hit]:
         """libxml2's hits on the XSD 1.0 form, completed by the XSD 1.1-only checks: the

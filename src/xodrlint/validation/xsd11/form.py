@@ -33,7 +33,7 @@ from xodrlint.validation.source import XS, SchemaSource, read_schema_source
 #: Where derived schema forms are cached (default: the user cache folder).
 CACHE_DIR_ENV: Final = plugins.CACHE_ENV
 #: Part of the cache key: bump it whenever :func:`derive_xsd10` changes its output.
-DERIVATION_VERSION: Final = "xsd10-form/1"
+DERIVATION_VERSION: Final = "xsd10-form/2"
 MANIFEST: Final = "xodrlint-xsd10.json"
 
 VC: Final = "http://www.w3.org/2007/XMLSchema-versioning"
@@ -74,6 +74,10 @@ class Derivation:
     alternative_sites: list[list[str]] | None = None
     """Where an element with type alternatives can stand, as [parent tag, tag] pairs
     (parent "" for the root), read off that strict build; ``None`` when unknown."""
+    translation: dict[str, Any] | None = None
+    """The assertions and type alternatives in XPath 1.0
+    (:func:`~xodrlint.validation.xsd11.translation.translate_set`), from that strict
+    build; ``None`` when it did not run."""
 
     def note(self, problem: str) -> None:
         if problem not in self.unsupported:
@@ -216,6 +220,10 @@ class Xsd10Form:
     alternative_sites: frozenset[tuple[str, str]] | None = None
     """(parent tag, tag) of every element that may have type alternatives ("" for the
     root's parent); ``None`` when the strict build did not run."""
+    translation: dict[str, Any] | None = None
+    """The set's assertions and type alternatives in XPath 1.0 (see
+    :mod:`~xodrlint.validation.xsd11.selectors`); ``None`` when the strict build did not
+    run."""
 
 
 @contextlib.contextmanager
@@ -287,6 +295,7 @@ def _read_form(
         cached=cached,
         schema_checked=manifest["schema_checked"] is True,
         alternative_sites=_sites_of(manifest.get("alternative_sites")),
+        translation=_translation_of(manifest.get("translation")),
     )
 
 
@@ -377,6 +386,43 @@ def _sites_of(value: object) -> frozenset[tuple[str, str]] | None:
     return frozenset((parent, tag) for parent, tag in pairs)
 
 
+def _translation_of(value: object) -> dict[str, Any] | None:
+    """The manifest's translation if it has the shape written (its XPath is compiled, and
+    refused if broken, by the fast path)."""
+    if not isinstance(value, dict) or not isinstance(value.get("types"), list):
+        return None
+    for entry in value["types"]:
+        if not (
+            isinstance(entry, dict)
+            and isinstance(entry.get("type"), str)
+            and isinstance(entry.get("paths"), list)
+            and all(isinstance(p, str) for p in entry["paths"])
+            and isinstance(entry.get("assertions"), list)
+            and all(_assertion_shape(a) for a in entry["assertions"])
+        ):
+            return None
+    marks = value.get("marks")
+    if marks is not None and not (
+        isinstance(marks, list)
+        and all(
+            isinstance(m, dict)
+            and isinstance(m.get("path"), str)
+            and isinstance(m.get("type"), str)
+            for m in marks
+        )
+    ):
+        return None
+    return value
+
+
+def _assertion_shape(item: object) -> bool:
+    if not isinstance(item, dict) or not isinstance(item.get("test"), str):
+        return False
+    if "fails" in item:
+        return isinstance(item["fails"], str) and isinstance(item.get("uncertain"), str)
+    return isinstance(item.get("why"), str)
+
+
 def _check_strictly(entry: Path, derivation: Derivation) -> None:
     """Build the source set strictly once, and note what later runs may rely on."""
     from xodrlint.validation.xsd11.full import Xsd11Validator
@@ -387,6 +433,9 @@ def _check_strictly(entry: Path, derivation: Derivation) -> None:
         return
     derivation.schema_checked = True
     derivation.alternative_sites = sorted([*site] for site in _alternative_sites(schema))
+    from xodrlint.validation.xsd11.translation import translate_set
+
+    derivation.translation = translate_set(schema).as_json()
 
 
 def _alternative_sites(schema: Any) -> set[tuple[str, str]]:
@@ -456,6 +505,7 @@ def _write_files(folder: Path, source: SchemaSource, derivation: Derivation) -> 
         "unsupported": derivation.unsupported,
         "schema_checked": derivation.schema_checked,
         "alternative_sites": derivation.alternative_sites,
+        "translation": derivation.translation,
         # what later runs verify before libxml2 reads the form: a form swapped for a
         # permissive schema would lose findings without a word
         "files": hashes,

@@ -17,6 +17,7 @@ from typing import Any, Final
 
 import xmlschema
 from lxml import etree
+from xmlschema.validators import XsdAssert
 
 from xodrlint.document.load import Document
 from xodrlint.findings import Hit
@@ -27,6 +28,7 @@ from xodrlint.validation.messages import (
     sentence,
 )
 from xodrlint.validation.sets import SchemaLoadError
+from xodrlint.validation.xsd11.wording import assertion_message
 
 _KEY_NOT_FOUND: Final = re.compile(r"value (?P<v>\(.*\)) not found for \w+\(name='(?P<k>[^']+)'\)")
 _DUPLICATE: Final = re.compile(r"duplicated value (?P<v>\(.*\)) for \w+\(name='(?P<k>[^']+)'\)")
@@ -80,6 +82,10 @@ class Xsd11Validator:
         missing: set[int] = set()
         for error in errors:
             element = error.elem if isinstance(error.elem, etree._Element) else None
+            if element is not None and isinstance(getattr(error, "validator", None), XsdAssert):
+                # an error evaluating the test fails the assertion too: worded alike
+                yield Hit(element, assertion_message(element, error.validator.path), kind="other")
+                continue
             reason = str(error.reason or error.message)
             identity = _KEY_NOT_FOUND.search(reason) or _DUPLICATE.search(reason)
             if identity is not None:

@@ -23,23 +23,31 @@ from xodrlint.validation.xsd11.assertions import (
     XPathNames,
     type_assertions,
 )
+from xodrlint.validation.xsd11.selectors import Checked
 
 
 @dataclass(frozen=True, slots=True)
 class Plan:
-    """What the 1.1-only checks found to do in one document."""
+    """What the 1.1-only checks found to do in one document: the type marks, the elements
+    whose assertions xmlschema evaluates (with their types), and what the translated
+    assertions found (``None`` without a translation)."""
 
     marks: list[tuple[etree._Element, str]]
     asserted: list[tuple[etree._Element, Any]]
+    checked: Checked | None = None
 
 
 class SchemaModel:
-    """The xmlschema components the 1.1-only checks need, with lookups cached."""
+    """The xmlschema components the 1.1-only checks need, with lookups cached.
+    ``translated``: (type name, test) of the assertions libxml2 runs in XPath 1.0
+    (:mod:`~xodrlint.validation.xsd11.selectors`), which :meth:`assertions_of` leaves out
+    unless asked for every assertion."""
 
-    def __init__(self, schema: Any) -> None:
+    def __init__(self, schema: Any, translated: frozenset[tuple[str, str]] = frozenset()) -> None:
         self.schema = schema
+        self.translated = translated
         self._children: dict[int, dict[str, Any]] = {}
-        self._assertions: dict[int, TypeAssertions] = {}
+        self._assertions: dict[tuple[int, bool], TypeAssertions] = {}
         self._alternatives: dict[tuple[int, tuple[str | None, ...]], Any] = {}
         self._alternative_reads: dict[int, tuple[str, ...] | None] = {}
         self._interesting = self._types_to_enter()
@@ -55,7 +63,8 @@ class SchemaModel:
                 continue
             below[id(xsd_type)] = set()
             if getattr(xsd_type, "assertions", None):
-                self.assertions_of(xsd_type)  # refuses assertions that might look too far
+                # refuses assertions that might look too far
+                self.assertions_of(xsd_type, every=True)
                 marked.add(id(xsd_type))
             for declaration in self.children(xsd_type).values():
                 if declaration.alternatives:
@@ -125,10 +134,17 @@ class SchemaModel:
                 self._alternative_reads[key] = seen
         return self._alternative_reads[key]
 
-    def assertions_of(self, xsd_type: Any) -> TypeAssertions:
-        found = self._assertions.get(id(xsd_type))
+    def assertions_of(self, xsd_type: Any, *, every: bool = False) -> TypeAssertions:
+        """The type's assertions xmlschema evaluates: those not translated, or ``every``
+        one (for an element the translation cannot judge exactly)."""
+        key = (id(xsd_type), every)
+        found = self._assertions.get(key)
         if found is None:
-            found = self._assertions[id(xsd_type)] = type_assertions(xsd_type)
+            name = str(getattr(xsd_type, "local_name", "") or "")
+            translated = set() if every else self.translated
+            found = self._assertions[key] = type_assertions(
+                xsd_type, lambda assertion: (name, assertion.path) not in translated
+            )
         return found
 
     def plan(self, root: etree._Element) -> Plan:
