@@ -152,8 +152,10 @@ def test_each_ratio_is_the_median_of_its_rounds(capsys: pytest.CaptureFixture[st
     assert figures["F"] == 2.5
     assert figures["F2"] == pytest.approx(1.25)
     out = capsys.readouterr().out
-    assert "R2     1.50   target <= 1.5   met" in out
-    assert "R2r    1.50   target <= 1.6   met" in out
+    assert "R2     1.50   target <= 1.2   MISSED" in out
+    assert "R2r    1.50   target <= 1.35   MISSED" in out
+    assert "R2r-R1r +0.50   target <= 0.05   MISSED" in out
+    assert "M8r    1.00   target <= 1.3   met" in out
     assert "B      1.50   target >= 1.6   MISSED" in out
     assert "F      2.50   target <= 2.0   MISSED" in out
     assert "F2     1.25   target <= 1.3   met" in out
@@ -229,3 +231,14 @@ def test_the_dask_model_projects_from_the_measured_costs() -> None:
     assert one == "     1 machines:      999 files/s (1,001 s, 15,660 tasks; bound by the workers)"
     # 512 workers: 25,306 tasks of at most 64 files, 253 s at 10 ms, above the client's 200 s
     assert most == "   256 machines:    3,935 files/s (254 s, 25,306 tasks; bound by the scheduler)"
+
+
+def test_commands_run_with_bytecode_caches_as_users_have_them(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setenv("PYTHONDONTWRITEBYTECODE", "1")
+    env = RUN.command_env({"XODRLINT_SCHEMA_PATH": "x"})
+    assert "PYTHONDONTWRITEBYTECODE" not in env
+    assert env["XODRLINT_SCHEMA_PATH"] == "x"
+    tools = RUN.Tools(["xodrlint"], ["/bin/true"], {})
+    assert "without PYTHONDONTWRITEBYTECODE" in RUN.machine(tools)
