@@ -10,6 +10,7 @@ import re
 import shutil
 import subprocess
 import sys
+import threading
 from collections.abc import Iterator
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -845,9 +846,11 @@ def test_the_fast_path_in_a_forked_child_marks_types_there_or_in_the_fallback(
 def test_the_assertions_run_before_the_caller_joins_libxml2s_thread(
     cache: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    # the caller's share (the assertions) overlaps libxml2's thread, not follows it
+    # where xmlschema evaluates the assertions (a form without a translation), the
+    # caller's share overlaps libxml2's thread, not follows it
     validator = xsd11_validator(_entry("1.9.0"), Libxml2Validator)
     assert isinstance(validator, FastXsd11Validator)
+    validator._selectors, validator._selectors_read = None, True
     doc = load_bytes(_document("1.9.0", {}), "order.xodr")
     order: list[str] = []
     real = validator._assertion_stage
@@ -1080,3 +1083,30 @@ def test_verbose_says_where_the_assertions_ran(cache: Path, tmp_path: Path) -> N
     schema = str(SHARED_SCHEMAS / "1.9.0")
     result = CliRunner().invoke(app, ["check", "-v", "--schema", schema, str(path)])
     assert "assertions: 24 in libxml2's XPath" in result.stderr, result.stderr
+
+
+def test_the_translated_assertions_run_in_the_first_part_beside_the_rules(
+    pairs: dict[str, Pair], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # libxml2's XPath runs without the GIL: in the validation thread, after libxml2
+    fast = pairs["1.9.0"].fast
+    selectors = fast.selectors()
+    assert selectors is not None
+    threads: list[str] = []
+    real = selectors.check
+
+    def check(root: etree._Element) -> Any:
+        threads.append(threading.current_thread().name)
+        return real(root)
+
+    monkeypatch.setattr(selectors, "check", check)
+    doc = load_bytes(_document("1.9.0", _object('type="pole" width="1"')), "pole.xodr")
+    first, finish, thread_safe = fast.stages(doc)
+    assert thread_safe
+    done: list[list[Hit]] = []
+    worker = threading.Thread(target=lambda: done.append(first()), name="validation")
+    worker.start()
+    worker.join()
+    hits = finish(lambda: done[0])
+    assert threads == ["validation"]
+    assert [h.element.tag for h in hits if h.element is not None] == ["object"]

@@ -38,6 +38,9 @@ class Checked:
     """Each element with the test of an assertion it fails, in document order."""
     uncertain: list[etree._Element] = field(default_factory=list)
     """Elements whose translated assertions only xmlschema can judge exactly."""
+    marks: list[tuple[etree._Element, str]] | None = None
+    """Each element a type alternative gives another type than its declared one, with
+    that type's name (``None``: the alternatives do not translate)."""
 
 
 class Selectors:
@@ -90,17 +93,15 @@ class Selectors:
     def marks_known(self) -> bool:
         return self._marks is not None
 
-    def marks(self, root: etree._Element) -> list[tuple[etree._Element, str]]:
-        """Each element a type alternative gives another type than its declared one."""
-        assert self._marks is not None
-        return [
-            (element, type_name)
-            for selector, type_name in self._marks
-            for element in _elements(selector(root))
-        ]
-
     def check(self, root: etree._Element) -> Checked:
+        """Every translated assertion and type alternative, run on the document."""
         checked = Checked()
+        if self._marks is not None:
+            checked.marks = [
+                (element, type_name)
+                for selector, type_name in self._marks
+                for element in _elements(selector(root))
+            ]
         for type_check in self._checks:
             for element in _elements(type_check.candidates(root)):
                 if any(
