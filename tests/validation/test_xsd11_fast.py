@@ -524,12 +524,15 @@ def test_files_using_the_xsi_namespace(
     assert bool(calls) is falls_back
 
 
-@pytest.mark.parametrize("value", ["+INF", "INF", "-0", "1e400", " 1 ", "0x1"])
+@pytest.mark.parametrize(
+    "value", ["+INF", "INF", "-0", "1e400", " 1 ", "0x1", " NaN ", "NaN ", "INF ", "-INF "]
+)
 def test_numbers_read_as_xsd11_reads_them(pairs: dict[str, Pair], value: str) -> None:
-    # '+INF' is an xs:double in XSD 1.1, not in XSD 1.0: such a file is validated in full
+    # '+INF' is an xs:double in XSD 1.1, not in XSD 1.0: such a file is validated in full.
+    # Blanks around a number are collapsed (libxml2 alone refuses them after NaN and INF)
     parts = _object(f'type="pole" height="{value}"')
     found = _same_findings(pairs["1.9.0"], _document("1.9.0", parts), value)
-    assert bool(found) is (value == "0x1")
+    assert bool(found) is (value in ("0x1", "-INF "))
 
 
 # -- what libxml2 skips: children after an unexpected one, and elements of abstract type ---
