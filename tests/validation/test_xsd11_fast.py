@@ -998,7 +998,7 @@ _CHILDREN = {
     '<vertexLocal id="1" u="1" v="0" z="0"/></polyline></skeleton>',
 }
 _NUMBERS = ["0", "-0", "0.0", "5", ".5", "5.", "-5", " 0 ", "\t1\n", "1e3", "INF", "-INF"]
-_NUMBERS += ["NaN", " NaN ", "abc", "", "+5", "0x1", "1 2"]
+_NUMBERS += ["NaN", " NaN ", "abc", "", "+5", "0x1", "1 2", "0." + "0" * 315 + "1", "-0.0"]
 
 
 @st.composite
@@ -1113,3 +1113,88 @@ def test_the_translated_assertions_run_in_the_first_part_beside_the_rules(
     hits = finish(lambda: done[0])
     assert threads == ["validation"]
     assert [h.element.tag for h in hits if h.element is not None] == ["object"]
+
+
+TYPED_SET = """<?xml version="1.0"?>
+<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema"
+    xmlns:vc="http://www.w3.org/2007/XMLSchema-versioning" vc:minVersion="1.1">
+  <xs:element name="OpenDRIVE" type="t_root"/>
+  <xs:complexType name="t_root">
+    <xs:sequence>
+      <xs:element name="q" type="t_q" minOccurs="0" maxOccurs="unbounded"/>
+      <xs:element name="r" minOccurs="0" maxOccurs="unbounded">
+        <xs:complexType>
+          <xs:attribute name="d" type="xs:double"/>
+          <xs:assert test="not(@d) or @d > 0"/>
+        </xs:complexType>
+      </xs:element>
+    </xs:sequence>
+  </xs:complexType>
+  <xs:complexType name="t_q">
+    <xs:attribute name="i" type="xs:integer"/>
+    <xs:attribute name="f" type="xs:float"/>
+    <xs:attribute name="d" type="xs:double"/>
+    <xs:assert test="not(@i) or @i > 0"/>
+    <xs:assert test="not(@f) or @f > 0"/>
+    <xs:assert test="not(@d) or @d > 0"/>
+  </xs:complexType>
+</xs:schema>
+"""
+#: A fraction libxml2's number() reads as 0, and xs:double as a tiny positive number.
+TINY = "0." + "0" * 315 + "1"
+
+
+def test_what_xpath_1_reads_otherwise_is_left_to_xmlschema(cache: Path, tmp_path: Path) -> None:
+    # an integer (written '5.0' it is none), a float (single precision reads a tiny
+    # value as 0), an anonymous type (assertions are told apart by type name): not
+    # translated; a double XPath 1.0 reads as 0 goes to xmlschema, document by document
+    (tmp_path / "typed.xsd").write_text(TYPED_SET)
+    fast = xsd11_validator(tmp_path / "typed.xsd", Libxml2Validator)
+    assert isinstance(fast, FastXsd11Validator)
+    assert "1 in libxml2's XPath" in fast.route
+    for why in ("integer attributes", "float attributes", "'not(@d) or @d > 0' (an anonymous"):
+        assert why in fast.route, fast.route
+    pair = Pair(Xsd11Validator(tmp_path / "typed.xsd"), fast)
+    for value in (TINY, "-1", "2"):
+        for tag in ("q", "r"):
+            data = f'<OpenDRIVE><{tag} d="{value}"/></OpenDRIVE>'.encode()
+            found = _same_findings(pair, data, f"{tag}/@d={value}")
+            assert bool(found) is (value == "-1")
+
+
+@pytest.mark.parametrize("kind", ["building", "barrier", "crosswalk"])
+def test_a_fraction_libxml2_reads_as_zero_is_judged_as_xsd_reads_it(
+    pairs: dict[str, Pair], kind: str
+) -> None:
+    repeat = (
+        f'<repeat s="0" length="1" distance="{TINY}" tStart="0" tEnd="0" heightStart="1"'
+        ' heightEnd="1" zOffsetStart="0" zOffsetEnd="0"/>'
+    )
+    found = _same_findings(
+        pairs["1.9.0"], _document("1.9.0", _object(f'type="{kind}"', repeat)), kind
+    )
+    assert bool(found) is (kind == "barrier")  # barriers repeat at distance 0
+
+
+def test_an_xpath_that_fails_when_run_leaves_the_checks_to_xmlschema(cache: Path) -> None:
+    with xsd10_form(_entry("1.9.0")) as form:
+        assert form.translation is not None and form.entry is not None
+        broken = json.loads(json.dumps(form.translation))
+    for entry in broken["types"]:
+        for item in entry["assertions"]:
+            item["fails"] = "foo()"  # compiles, raises when evaluated
+    fast = FastXsd11Validator(
+        _entry("1.9.0"), Libxml2Validator(form.entry), replace(form, translation=broken)
+    )
+    assert fast.selectors() is not None
+    data = _document("1.9.0", _junction("", _twice('connectingRoad="2"')))
+    found = _same_findings(Pair(Xsd11Validator(_entry("1.9.0")), fast), data, "foo()")
+    assert found and fast.selectors() is None
+
+
+def test_blanks_after_nan_in_an_integer_are_no_number(pairs: dict[str, Pair]) -> None:
+    # XSD collapses blanks around a double's NaN; an integer's 'NaN ' is no number at all
+    for value in ("NaN ", "INF "):
+        lanes = LANES.format(attrs="", offset="", section="", width=WIDTH)
+        data = _document("1.9.0", {"lanes": lanes.replace('id="-1"', f'id="{value}"')})
+        assert _same_findings(pairs["1.9.0"], data, value)

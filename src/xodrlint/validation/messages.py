@@ -88,6 +88,18 @@ class TypeCatalog(NamedTuple):
         }
         return frozenset(found) | self.bounds(restriction.get("base", ""), depth + 1)
 
+    def builtin_of(self, type_name: str, depth: int = 0) -> str | None:
+        """The built-in type ``type_name`` restricts (itself if built-in); ``None`` for a
+        union, a list or a type not known."""
+        local = type_name.rpartition(":")[2]
+        simple = self.types.get(local)
+        if simple is None:
+            return local if local in _BUILTIN_TYPES or ":" in type_name else None
+        restriction = simple.find(f"{{{XS}}}restriction")
+        if restriction is None or depth > 8:
+            return None
+        return self.builtin_of(restriction.get("base", ""), depth + 1)
+
     def describe(self, type_name: str, depth: int = 0) -> str | None:
         """What values ``type_name`` accepts, in words; ``None`` if unknown."""
         local = type_name.rpartition(":")[2]
@@ -275,9 +287,8 @@ def blank_special_number(why: Explained, value: str | None, catalog: TypeCatalog
     number = value.strip(_XML_BLANKS)
     if number == value or number not in ("NaN", "INF", "-INF"):
         return False
-    simple = catalog.types.get(why.value_type.rpartition(":")[2])
-    if simple is not None and simple.find(f"{{{XS}}}restriction") is None:
-        return False  # a union or a list: left to libxml2
+    if catalog.builtin_of(why.value_type) not in ("double", "float"):
+        return False  # (an integer's 'NaN ' is no number at all; a union: left to libxml2)
     bounds = catalog.bounds(why.value_type)
     return number == "NaN" or ("max" if number == "INF" else "min") not in bounds
 

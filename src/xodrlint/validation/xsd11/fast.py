@@ -130,16 +130,31 @@ class FastXsd11Validator:
 
     def selectors(self) -> Selectors | None:
         """The set's assertions and type alternatives in XPath 1.0, compiled (``None``
-        where the form has no translation, or one libxml2 does not compile)."""
+        where the form has no translation, or one libxml2 does not compile or run)."""
         if not self._selectors_read:
-            self._selectors_read = True
             translation = self.form.translation
             if translation is not None:
                 # the manifest's shape was checked; XPath it holds that does not compile
                 # leaves the checks to xmlschema, as a form without a translation does
                 with contextlib.suppress(etree.XPathError, KeyError, TypeError, ValueError):
                     self._selectors = Selectors(translation)
+            self._selectors_read = True  # (after: another thread meanwhile compiles too)
         return self._selectors
+
+    def _translated_checks(self, doc: Document, root: etree._Element) -> Checked | None:
+        """What the translated checks find, or ``None`` where there are none to run or
+        their XPath fails (a manifest altered since the translation): xmlschema's route
+        then serves, for this document and the next."""
+        selectors = self.selectors()
+        if selectors is None:
+            return None
+        try:
+            return selectors.check(root)
+        except etree.XPathError:
+            self._selectors = None
+            if self._model is not None and self._model.translated:
+                self._model = None  # it left out what the XPath was to check
+            return None
 
     @property
     def route(self) -> str:
@@ -151,7 +166,7 @@ class FastXsd11Validator:
             return f"assertions: {self.form.asserts} in xmlschema (no translation cached)"
         words = [f"assertions: {len(selectors.translated)} in libxml2's XPath"]
         for type_name, test, why in selectors.untranslated:
-            words.append(f"in xmlschema: {type_name} {test!r} ({why})")
+            words.append(f"in xmlschema: {' '.join((type_name, repr(test))).strip()} ({why})")
         if not selectors.marks_known:
             words.append(f"type alternatives in xmlschema ({selectors.why_not_marks})")
         return "; ".join(words)
@@ -213,7 +228,9 @@ class FastXsd11Validator:
         def first() -> list[Hit]:
             hits = list(self._libxml2.hits(doc))
             if os.getpid() == here:  # what a forked child finds would not come back
-                checked.append(selectors.check(root))
+                found = self._translated_checks(doc, root)
+                if found is not None:
+                    checked.append(found)
             return hits
 
         def finish(first: Callable[[], list[Hit]]) -> list[Hit]:
@@ -271,12 +288,12 @@ class FastXsd11Validator:
             raise NeedsFull("the file uses xsi:type, xsi:nil or '+INF'")
         if not (self.form.asserts or self.form.alternatives):
             return None, Plan([], [])
+        if checked is None:
+            checked = self._translated_checks(doc, root)
         selectors = self.selectors()
-        if selectors is None:
+        if checked is None or selectors is None:
             model = self.model()
             return model, model.plan(root)
-        if checked is None:
-            checked = selectors.check(root)
         marks = checked.marks
         if marks is not None and not selectors.untranslated and not checked.uncertain:
             return None, Plan(marks, [], checked)

@@ -56,7 +56,7 @@ class Selectors:
             assertions: list[_Assertion] = []
             for item in entry["assertions"]:
                 test = str(item["test"])
-                if "fails" not in item or not paths:
+                if "fails" not in item or not paths or not type_name:
                     self.untranslated.append((type_name, test, str(item.get("why", ""))))
                     continue
                 uncertain = str(item["uncertain"])

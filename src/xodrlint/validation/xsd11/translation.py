@@ -36,9 +36,15 @@ from xodrlint.validation.xsd11.governing import SchemaModel
 #: most one point, an optional minus, blanks around).
 _PLAIN_NUMBER: Final = (
     "(string(number(.)) != 'NaN' and contains('||.|-|-.|',"
-    " concat('|', translate(normalize-space(.), '0123456789', ''), '|')))"
+    " concat('|', translate(normalize-space(.), '0123456789', ''), '|'))"
+    # libxml2 reads a fraction past some 308 zeros as 0, where xs:double does not
+    " and (number(.) != 0 or translate(normalize-space(.), '-.0', '') = ''))"
 )
-_NUMERIC_PRIMITIVES: Final = frozenset({"double", "float", "decimal"})
+#: Built-in types whose plain numerals XPath 1.0 compares with 0 as XSD does (xs:float
+#: reads a tiny value as 0, an xs:integer refuses a point: neither translates).
+_NUMERIC_BUILTINS: Final = frozenset({"double", "decimal"})
+#: Elements whose duplicate ids the XPath looks for in quadratic time: more go to xmlschema.
+_MAX_DISTINCT: Final = 256
 _GENERAL: Final = {"=": "=", "!=": "!=", "<": "<", "<=": "<=", ">": ">", ">=": ">="}
 _VALUE: Final = {"eq": "=", "ne": "!=", "lt": "<", "le": "<=", "gt": ">", "ge": ">="}
 _FLIPPED: Final = {"=": "=", "!=": "!=", "<": ">", "<=": ">=", ">": "<", ">=": "<="}
@@ -347,12 +353,17 @@ def _attribute_comparison(
         # XSD 1.1 reads the attribute as its type says, a string, and a string compared
         # with a boolean raises XPTY0004, whatever it holds ('true' included)
         return Expr("boolean", FALSE, or_(raises, f"boolean({nodes.text})"), uncertain)
-    if primitive in _NUMERIC_PRIMITIVES and value.kind == "number" and value.text == "0":
+    if (
+        _builtin(nodes.xsd_type) in _NUMERIC_BUILTINS
+        and value.kind == "number"
+        and value.text == "0"
+    ):
         # with 0, any plain numeral compares the same read by XPath 1.0 or as xs:double;
         # numerals of other shapes (and nonsense, which raises) go to xmlschema
         truth = f"boolean({nodes.text}[{_PLAIN_NUMBER} and number(.) {operator} 0])"
         return Expr("boolean", truth, raises, or_(uncertain, f"{nodes.text}[not({_PLAIN_NUMBER})]"))
-    raise Untranslatable(f"a comparison of {primitive or 'untyped'} attributes with {value.kind}")
+    shown = _builtin(nodes.xsd_type) or "untyped"
+    raise Untranslatable(f"a comparison of {shown} attributes with {value.kind} {value.text}")
 
 
 def _distinct_count(translator: Translator, symbol: str, children: list[Any]) -> Expr | None:
@@ -378,7 +389,8 @@ def _distinct_count(translator: Translator, symbol: str, children: list[Any]) ->
             ):
                 raise Untranslatable("distinct-values of values that are not plain strings")
             test = f"not({element}[@{attribute} = preceding-sibling::{element}/@{attribute}])"
-            return Expr("boolean", test, counted.raises, counted.uncertain)
+            many = f"count({element}) > {_MAX_DISTINCT}"
+            return Expr("boolean", test, counted.raises, or_(counted.uncertain, many))
     return None
 
 
@@ -403,6 +415,18 @@ _HANDLERS: Final = {
     "(string)": Translator._literal,
     "(integer)": Translator._literal,
 }
+
+
+def _builtin(xsd_type: Any) -> str | None:
+    """The built-in type ``xsd_type`` restricts (``double`` for ``t_grEqZero``)."""
+    for _ in range(32):
+        if xsd_type is None:
+            return None
+        name = str(getattr(xsd_type, "name", "") or "")
+        if name.startswith("{http://www.w3.org/2001/XMLSchema}"):
+            return name.rpartition("}")[2]
+        xsd_type = getattr(xsd_type, "base_type", None)
+    return None
 
 
 def _primitive(xsd_type: Any) -> str | None:
@@ -471,8 +495,12 @@ def translate_set(schema: Any) -> Translation:
         return translation
     translation.marks = marks
     for xsd_type, type_paths in paths:
+        if not getattr(xsd_type, "local_name", None):
+            # assertions are told apart by type name and test: an anonymous type has none
+            translation.types.append(_untranslated(xsd_type, "an anonymous type"))
+            continue
         entry: dict[str, Any] = {
-            "type": str(getattr(xsd_type, "local_name", "") or ""),
+            "type": str(xsd_type.local_name),
             "paths": type_paths,
             "assertions": [],
         }
@@ -524,6 +552,8 @@ def _element_paths(
         if id(declaration) in seen:
             raise Untranslatable("elements that hold themselves")
         seen = seen | {id(declaration)}
+        if declaration.name != declaration.local_name:
+            raise Untranslatable("an element of a namespace")
         path = f"{above}/{declaration.local_name}"
         for predicate, xsd_type in _governing(declaration):
             here = path + predicate

@@ -62,7 +62,7 @@ _SENTENCES: Final[dict[str, Callable[[etree._Element], str]]] = {
         )
     ),
     "if (@side) then not(cornerReference) else count(cornerReference) gt 1": lambda e: (
-        f"'{e.tag}' must have @side or at least two cornerReference, not both"
+        f"'{e.tag}' must have @side (whatever its value) or at least two cornerReference, not both"
     ),
     "if (name(parent::*) = 'outline') then not(parent::*/parent::*/parent::*/markings) "
     "else true()": lambda e: f"'{e.tag}' of an outline may not stand beside markings of its object",
