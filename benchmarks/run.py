@@ -17,9 +17,9 @@ railway.py (every road a track), "mixed" the city-and-rail network of generate.p
 - R2:  xodrlint on the mixed network declared 1.8 / xmllint on the mixed 1.7 file
 - R3:  xodrlint on a 0.2 MB file / ``python -c "import typer, rich.console, lxml.etree"``
 - M:   xodrlint's peak RSS on the rail 1.7 file / xmllint's
+- Mmix: the same on the mixed 1.7 file
 - M8r: xodrlint's peak RSS on the rail file declared 1.8 / xmllint's on the 1.7 file
 - R2r-R1r: how much more the 1.8 file costs than its 1.7 twin (issue 34: at most 0.05)
-- Mmix: the same on the mixed 1.7 file
 - S:   xodrlint on 40 MB mixed / on 20 MB mixed
 - B:   200 small files with ``-j 1`` / with ``-j 2`` (a speed-up)
 - G:   xodrlint on the mixed 1.7 network / the same without the track-geometry rules

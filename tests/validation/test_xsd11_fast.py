@@ -33,7 +33,7 @@ from xodrlint.validation.source import XS
 from xodrlint.validation.validators import SchemaValidators
 from xodrlint.validation.xsd11 import fast as xsd11_fast
 from xodrlint.validation.xsd11 import translation as translation_module
-from xodrlint.validation.xsd11.alternatives import holds_a_site
+from xodrlint.validation.xsd11.alternatives import XSI, holds_a_site
 from xodrlint.validation.xsd11.fast import FastXsd11Validator, xsd11_validator
 from xodrlint.validation.xsd11.form import CACHE_DIR_ENV, derive_xsd10, xsd10_form
 from xodrlint.validation.xsd11.full import Xsd11Validator
@@ -1098,9 +1098,9 @@ def test_the_translated_assertions_run_in_the_first_part_beside_the_rules(
     threads: list[str] = []
     real = selectors.check
 
-    def check(root: etree._Element) -> Any:
+    def check(root: etree._Element, **options: bool) -> Any:
         threads.append(threading.current_thread().name)
-        return real(root)
+        return real(root, **options)
 
     monkeypatch.setattr(selectors, "check", check)
     doc = load_bytes(_document("1.9.0", _object('type="pole" width="1"')), "pole.xodr")
@@ -1198,3 +1198,27 @@ def test_blanks_after_nan_in_an_integer_are_no_number(pairs: dict[str, Pair]) ->
         lanes = LANES.format(attrs="", offset="", section="", width=WIDTH)
         data = _document("1.9.0", {"lanes": lanes.replace('id="-1"', f'id="{value}"')})
         assert _same_findings(pairs["1.9.0"], data, value)
+
+
+def test_with_type_marks_the_assertions_run_while_libxml2_validates(
+    pairs: dict[str, Pair], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # a junction: libxml2 validates with the marks set; the assertions' XPath runs in a
+    # thread meanwhile, the marks already in place, and the findings stay full validation's
+    fast = pairs["1.9.0"].fast
+    selectors = fast.selectors()
+    assert selectors is not None
+    seen: list[tuple[str, bool]] = []
+    real = selectors.check
+
+    def check(root: etree._Element, **options: bool) -> Any:
+        junction = root.find("junction")
+        marked = junction is not None and junction.get(f"{{{XSI}}}type") is not None
+        seen.append((threading.current_thread().name, marked))
+        return real(root, **options)
+
+    monkeypatch.setattr(selectors, "check", check)
+    parts = ALTERNATIVE_CASES["junction", "@type='direct'"] | _object('type="pole" width="1"')
+    found = _same_findings(pairs["1.9.0"], _document("1.9.0", parts), "marks beside")
+    assert found
+    assert seen[0][0] != threading.current_thread().name and seen[0][1]

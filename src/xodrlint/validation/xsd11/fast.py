@@ -141,15 +141,17 @@ class FastXsd11Validator:
             self._selectors_read = True  # (after: another thread meanwhile compiles too)
         return self._selectors
 
-    def _translated_checks(self, doc: Document, root: etree._Element) -> Checked | None:
-        """What the translated checks find, or ``None`` where there are none to run or
-        their XPath fails (a manifest altered since the translation): xmlschema's route
-        then serves, for this document and the next."""
+    def _translated_checks(
+        self, doc: Document, root: etree._Element, *, marks: bool = True
+    ) -> Checked | None:
+        """What the translated checks find (``marks``: the type marks too), or ``None``
+        where there are none to run or their XPath fails (a manifest altered since the
+        translation): xmlschema's route then serves, for this document and the next."""
         selectors = self.selectors()
         if selectors is None:
             return None
         try:
-            return selectors.check(root)
+            return selectors.check(root, marks=marks)
         except etree.XPathError:
             self._selectors = None
             if self._model is not None and self._model.translated:
@@ -304,10 +306,40 @@ class FastXsd11Validator:
     def _fast_hits(self, doc: Document) -> Iterator[Hit]:
         assert doc.tree is not None
         root = doc.tree.getroot()
-        model, plan = self._prepare(doc, root)
-        with xsi_types(plan.marks):
-            raw = list(self._libxml2.hits(doc))
+        marks = self._translated_marks(doc, root)
+        if marks is None:
+            model, plan = self._prepare(doc, root)
+            with xsi_types(plan.marks):
+                raw = list(self._libxml2.hits(doc))
+        else:
+            # the assertions' XPath runs in a thread while libxml2 validates: both read
+            # the tree without the GIL, the marks set before either starts
+            with xsi_types(marks):
+                beside = background.start(
+                    lambda: self._translated_checks(doc, root, marks=False), 0, thread_safe=True
+                )
+                raw = list(self._libxml2.hits(doc))
+                checked = beside.result()
+            if checked is not None:
+                checked.marks = marks
+            model, plan = self._prepare(doc, root, checked)
         yield from self._checked(root, raw, self._assertion_hits(root, model, plan))
+
+    def _translated_marks(
+        self, doc: Document, root: etree._Element
+    ) -> list[tuple[etree._Element, str]] | None:
+        """The type marks, from the translated alternatives, where the translated
+        assertions may run beside libxml2; ``None`` where the document goes the way
+        :meth:`_prepare` chooses."""
+        selectors = self.selectors()
+        if selectors is None or not self._libxml2.thread_safe or self._unsupported is not None:
+            return None
+        if not (self.form.asserts or self.form.alternatives) or needs_xsd11_reading(doc, root):
+            return None
+        try:
+            return selectors.marks(root)
+        except etree.XPathError:
+            return None
 
     def _assertion_hits(
         self, root: etree._Element, model: SchemaModel | None, plan: Plan

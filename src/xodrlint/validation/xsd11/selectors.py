@@ -93,15 +93,21 @@ class Selectors:
     def marks_known(self) -> bool:
         return self._marks is not None
 
-    def check(self, root: etree._Element) -> Checked:
-        """Every translated assertion and type alternative, run on the document."""
-        checked = Checked()
-        if self._marks is not None:
-            checked.marks = [
-                (element, type_name)
-                for selector, type_name in self._marks
-                for element in _elements(selector(root))
-            ]
+    def marks(self, root: etree._Element) -> list[tuple[etree._Element, str]] | None:
+        """Each element a type alternative gives another type than its declared one,
+        with that type's name (``None``: the alternatives do not translate)."""
+        if self._marks is None:
+            return None
+        return [
+            (element, type_name)
+            for selector, type_name in self._marks
+            for element in _elements(selector(root))
+        ]
+
+    def check(self, root: etree._Element, *, marks: bool = True) -> Checked:
+        """Every translated assertion, and (``marks``) type alternative, run on the
+        document."""
+        checked = Checked(marks=self.marks(root) if marks else None)
         for type_check in self._checks:
             for element in _elements(type_check.candidates(root)):
                 if any(
