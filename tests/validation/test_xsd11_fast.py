@@ -33,7 +33,7 @@ from xodrlint.validation.source import XS
 from xodrlint.validation.validators import SchemaValidators
 from xodrlint.validation.xsd11 import fast as xsd11_fast
 from xodrlint.validation.xsd11 import translation as translation_module
-from xodrlint.validation.xsd11.alternatives import XSI, holds_a_site
+from xodrlint.validation.xsd11.alternatives import XSI, holds_a_site, needs_xsd11_reading
 from xodrlint.validation.xsd11.fast import FastXsd11Validator, xsd11_validator
 from xodrlint.validation.xsd11.form import CACHE_DIR_ENV, derive_xsd10, xsd10_form
 from xodrlint.validation.xsd11.full import Xsd11Validator
@@ -1224,3 +1224,52 @@ def test_with_type_marks_the_assertions_run_while_libxml2_validates(
     found = _same_findings(pairs["1.9.0"], _document("1.9.0", parts), "marks beside")
     assert found
     assert seen[0][0] != threading.current_thread().name and seen[0][1]
+
+
+def test_type_marks_that_fail_when_run_leave_the_checks_to_xmlschema(
+    cache: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # the alternatives' XPath of an altered manifest raises: this document and the next
+    # go xmlschema's way, the selectors dropped at once (not met again per document)
+    with xsd10_form(_entry("1.9.0")) as form:
+        assert form.translation is not None and form.entry is not None
+        broken = json.loads(json.dumps(form.translation))
+    assert broken["marks"]
+    for mark in broken["marks"]:
+        mark["path"] = "foo()"  # compiles, raises when evaluated
+    fast = FastXsd11Validator(
+        _entry("1.9.0"), Libxml2Validator(form.entry), replace(form, translation=broken)
+    )
+    selectors = fast.selectors()
+    assert selectors is not None
+    runs: list[int] = []
+    real = selectors.marks
+
+    def marks(root: etree._Element) -> Any:
+        runs.append(1)
+        return real(root)
+
+    monkeypatch.setattr(selectors, "marks", marks)
+    pair = Pair(Xsd11Validator(_entry("1.9.0")), fast)
+    parts = ALTERNATIVE_CASES["junction", "@type='direct'"] | _object('type="pole" width="1"')
+    assert _same_findings(pair, _document("1.9.0", parts), "foo() marks")
+    assert fast.selectors() is None and len(runs) == 1
+
+
+def test_a_document_is_screened_for_xsi_type_once(
+    pairs: dict[str, Pair], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # the screen reads the whole file's bytes: once per document, also where the type
+    # marks come from the translation (a junction) and the assertions run beside libxml2
+    screened: list[int] = []
+    real = needs_xsd11_reading
+
+    def counted(doc: Document, root: etree._Element) -> bool:
+        screened.append(1)
+        return real(doc, root)
+
+    monkeypatch.setattr(xsd11_fast, "needs_xsd11_reading", counted)
+    parts = ALTERNATIVE_CASES["junction", "@type='direct'"] | _object('type="pole" width="1"')
+    doc = load_bytes(_document("1.9.0", parts), "junction.xodr")
+    assert list(pairs["1.9.0"].fast.hits(doc))
+    assert len(screened) == 1

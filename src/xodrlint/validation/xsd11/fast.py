@@ -153,10 +153,14 @@ class FastXsd11Validator:
         try:
             return selectors.check(root, marks=marks)
         except etree.XPathError:
-            self._selectors = None
-            if self._model is not None and self._model.translated:
-                self._model = None  # it left out what the XPath was to check
+            self._drop_selectors()
             return None
+
+    def _drop_selectors(self) -> None:
+        """Hand the translated checks back to xmlschema, for this document and the next."""
+        self._selectors = None
+        if self._model is not None and self._model.translated:
+            self._model = None  # it left out what the XPath was to check
 
     @property
     def route(self) -> str:
@@ -218,7 +222,7 @@ class FastXsd11Validator:
             checks = background.Pending(lambda: self._assertion_stage(doc, root))
             return (
                 (lambda: list(self._libxml2.hits(doc))),
-                lambda first: self._finish_after(doc, checks, first),
+                lambda first: self._finish_in_order(doc, first, checks.result, stage_first=True),
                 self._libxml2.thread_safe,
             )
         # The translated assertions are libxml2's XPath, which runs without the GIL: they
@@ -235,12 +239,14 @@ class FastXsd11Validator:
                     checked.append(found)
             return hits
 
-        def finish(first: Callable[[], list[Hit]]) -> list[Hit]:
-            raw = first()
-            stage = self._assertion_stage(doc, root, checked[0] if checked else None)
-            return self._finish(doc, raw, stage)
+        def stage() -> _Stage:  # (after ``first``: it holds what the XPath found)
+            return self._assertion_stage(doc, root, checked[0] if checked else None)
 
-        return first, finish, self._libxml2.thread_safe
+        return (
+            first,
+            lambda first: self._finish_in_order(doc, first, stage, stage_first=False),
+            self._libxml2.thread_safe,
+        )
 
     def _assertion_stage(
         self, doc: Document, root: etree._Element, checked: Checked | None = None
@@ -248,6 +254,7 @@ class FastXsd11Validator:
         """The assertions' hits as values that cross a fork, or why they cannot stand
         (``checked``: what the translated assertions found, if they ran already)."""
         try:
+            self._screen(doc, root)
             model, plan = self._prepare(doc, root, checked)
             if plan.marks:
                 return ("marks", "", [])
@@ -256,11 +263,22 @@ class FastXsd11Validator:
             return ("full", self._unsupported or "", [])
         return ("checked", "", background.send_hits(hits, root))
 
-    def _finish_after(
-        self, doc: Document, checks: background.Pending[_Stage], first: Callable[[], list[Hit]]
+    def _finish_in_order(
+        self,
+        doc: Document,
+        first: Callable[[], list[Hit]],
+        stage: Callable[[], _Stage],
+        *,
+        stage_first: bool,
     ) -> list[Hit]:
-        stage = checks.result()  # the assertions, while libxml2's thread may still run
-        return self._finish(doc, first(), stage)
+        """:meth:`_finish` with libxml2's hits (``first``) and the assertion stage, the
+        stage taken first (xmlschema's assertions, while libxml2's thread may still run)
+        or after (the translated ones, which ``first`` ran)."""
+        if stage_first:
+            found = stage()
+            return self._finish(doc, first(), found)
+        raw = first()
+        return self._finish(doc, raw, stage())
 
     def _finish(self, doc: Document, raw: list[Hit], stage: _Stage) -> list[Hit]:
         assert doc.tree is not None
@@ -283,11 +301,8 @@ class FastXsd11Validator:
         """What the 1.1-only checks do in this document: libxml2's XPath runs the
         translated assertions and type alternatives; xmlschema's model (built or unpickled
         only then) is needed for what does not translate and for elements the
-        translation cannot judge exactly."""
-        if self._unsupported is not None:
-            raise NeedsFull(self._unsupported)
-        if needs_xsd11_reading(doc, root):
-            raise NeedsFull("the file uses xsi:type, xsi:nil or '+INF'")
+        translation cannot judge exactly. The caller has :meth:`_screen`-ed the
+        document."""
         if not (self.form.asserts or self.form.alternatives):
             return None, Plan([], [])
         if checked is None:
@@ -306,7 +321,8 @@ class FastXsd11Validator:
     def _fast_hits(self, doc: Document) -> Iterator[Hit]:
         assert doc.tree is not None
         root = doc.tree.getroot()
-        marks = self._translated_marks(doc, root)
+        self._screen(doc, root)
+        marks = self._translated_marks(root)
         if marks is None:
             model, plan = self._prepare(doc, root)
             with xsi_types(plan.marks):
@@ -325,20 +341,27 @@ class FastXsd11Validator:
             model, plan = self._prepare(doc, root, checked)
         yield from self._checked(root, raw, self._assertion_hits(root, model, plan))
 
-    def _translated_marks(
-        self, doc: Document, root: etree._Element
-    ) -> list[tuple[etree._Element, str]] | None:
+    def _screen(self, doc: Document, root: etree._Element) -> None:
+        """Raise :class:`NeedsFull` where only full validation reads the document (or
+        the schema) right: once per document, before the 1.1-only checks."""
+        if self._unsupported is not None:
+            raise NeedsFull(self._unsupported)
+        if needs_xsd11_reading(doc, root):
+            raise NeedsFull("the file uses xsi:type, xsi:nil or '+INF'")
+
+    def _translated_marks(self, root: etree._Element) -> list[tuple[etree._Element, str]] | None:
         """The type marks, from the translated alternatives, where the translated
         assertions may run beside libxml2; ``None`` where the document goes the way
         :meth:`_prepare` chooses."""
         selectors = self.selectors()
-        if selectors is None or not self._libxml2.thread_safe or self._unsupported is not None:
+        if selectors is None or not self._libxml2.thread_safe:
             return None
-        if not (self.form.asserts or self.form.alternatives) or needs_xsd11_reading(doc, root):
+        if not (self.form.asserts or self.form.alternatives):
             return None
         try:
             return selectors.marks(root)
         except etree.XPathError:
+            self._drop_selectors()
             return None
 
     def _assertion_hits(

@@ -11,9 +11,13 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Final
 
 from lxml import etree
+
+#: The test that never holds: the translation writes it for an assertion that cannot fail
+#: (or be uncertain), and no XPath is compiled or run for it.
+FALSE: Final = "false()"
 
 
 @dataclass(frozen=True, slots=True)
@@ -64,7 +68,7 @@ class Selectors:
                     _Assertion(
                         test,
                         etree.XPath(f"boolean({item['fails']})"),
-                        None if uncertain == "false()" else etree.XPath(f"boolean({uncertain})"),
+                        None if uncertain == FALSE else etree.XPath(f"boolean({uncertain})"),
                     )
                 )
                 self.translated.add((type_name, test))
@@ -75,7 +79,7 @@ class Selectors:
                     for item in entry["assertions"]
                     if "fails" in item
                     for key in ("fails", "uncertain")
-                    if item[key] != "false()"
+                    if item[key] != FALSE
                 )
             if any_of:  # (an assertion that cannot fail, such as one about a parent, has none)
                 union = " | ".join(f"{path}[{any_of}]" for path in paths)

@@ -31,6 +31,7 @@ from typing import Any, Final
 
 from xodrlint.validation.xsd11 import NeedsFull
 from xodrlint.validation.xsd11.governing import SchemaModel
+from xodrlint.validation.xsd11.selectors import FALSE
 
 #: XPath 1.0 test: the value is a number XPath 1.0 reads as xs:double does (digits, at
 #: most one point, an optional minus, blanks around).
@@ -57,7 +58,6 @@ class Untranslatable(Exception):
 
 
 TRUE: Final = "true()"
-FALSE: Final = "false()"
 
 
 def and_(*terms: str) -> str:
@@ -261,7 +261,7 @@ class Translator:
             return Expr("string", "''", inner.raises, inner.uncertain)
         # XPath 2.0's name() takes at most one node; XPath 1.0's takes the first
         several = (
-            "false()"
+            FALSE
             if inner.depth is not None and inner.text.endswith("..")
             else (f"count({inner.text}) > 1")
         )
