@@ -37,6 +37,10 @@ _BUILTIN_TYPES: Final = {
 }
 
 
+#: More restrictions of restrictions than any schema writes: a loop in a broken one ends here.
+_LONGEST_CHAIN: Final = 8
+
+
 class TypeCatalog(NamedTuple):
     """The named simple types of a schema set, for saying what a type allows."""
 
@@ -73,32 +77,44 @@ class TypeCatalog(NamedTuple):
             return None
         return (selector.get("xpath", "").strip(), " and ".join(fields))
 
-    def bounds(self, type_name: str, depth: int = 0) -> frozenset[str]:
+    def bounds(self, type_name: str) -> frozenset[str]:
         """The bounding facets (``min``, ``max``) of ``type_name`` and of the types it
         restricts."""
-        simple = self.types.get(type_name.rpartition(":")[2])
-        restriction = simple.find(f"{{{XS}}}restriction") if simple is not None else None
-        if restriction is None or depth > 4:
-            return frozenset()
-        found = {
+        restrictions, _ = self._restrictions(type_name)
+        return frozenset(
             side
+            for restriction in restrictions
             for side in ("min", "max")
             for kind in ("Inclusive", "Exclusive")
             if restriction.find(f"{{{XS}}}{side}{kind}") is not None
-        }
-        return frozenset(found) | self.bounds(restriction.get("base", ""), depth + 1)
+        )
 
-    def builtin_of(self, type_name: str, depth: int = 0) -> str | None:
+    def builtin_of(self, type_name: str) -> str | None:
         """The built-in type ``type_name`` restricts (itself if built-in); ``None`` for a
         union, a list or a type not known."""
-        local = type_name.rpartition(":")[2]
-        simple = self.types.get(local)
-        if simple is None:
-            return local if local in _BUILTIN_TYPES or ":" in type_name else None
-        restriction = simple.find(f"{{{XS}}}restriction")
-        if restriction is None or depth > 8:
+        _, base = self._restrictions(type_name)
+        if base is None:
             return None
-        return self.builtin_of(restriction.get("base", ""), depth + 1)
+        local = base.rpartition(":")[2]
+        return local if local in _BUILTIN_TYPES or ":" in base else None
+
+    def _restrictions(self, type_name: str) -> tuple[list[etree._Element], str | None]:
+        """The ``xs:restriction`` of each named simple type from ``type_name`` down the
+        types it restricts, and the name of the type the chain starts from, which is none
+        of the set's (a built-in); ``None`` for that where the chain meets a union, a
+        list, or goes on for longer than a schema's would."""
+        found: list[etree._Element] = []
+        name = type_name
+        for _ in range(_LONGEST_CHAIN):
+            simple = self.types.get(name.rpartition(":")[2])
+            if simple is None:
+                return found, name
+            restriction = simple.find(f"{{{XS}}}restriction")
+            if restriction is None:
+                return found, None
+            found.append(restriction)
+            name = restriction.get("base", "")
+        return found, None
 
     def describe(self, type_name: str, depth: int = 0) -> str | None:
         """What values ``type_name`` accepts, in words; ``None`` if unknown."""
