@@ -44,6 +44,12 @@ def isolated_schemas(
     # a CI service's checkout folder would root the CI formats' paths there
     monkeypatch.delenv("CI_PROJECT_DIR", raising=False)
     monkeypatch.delenv("GITHUB_WORKSPACE", raising=False)
+    # a worker's setup run in this process (a Dask plugin's, a batch chunk's) sets
+    # XODRLINT_FORK=0 for its process: undone here, or every later test would validate
+    # without threads
+    from xodrlint.concurrency.background import ENV as FORK_SETTING
+
+    monkeypatch.delenv(FORK_SETTING, raising=False)
     yield data
 
 

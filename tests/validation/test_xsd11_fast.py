@@ -1205,8 +1205,6 @@ def test_with_type_marks_the_assertions_run_while_libxml2_validates(
 ) -> None:
     # a junction: libxml2 validates with the marks set; the assertions' XPath runs in a
     # thread meanwhile, the marks already in place, and the findings stay full validation's
-    # (a batch test that lints in this process leaves XODRLINT_FORK=0 behind)
-    monkeypatch.setenv(background.ENV, "1")
     fast = pairs["1.9.0"].fast
     selectors = fast.selectors()
     assert selectors is not None
