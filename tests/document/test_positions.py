@@ -6,7 +6,7 @@ from __future__ import annotations
 from lxml import etree
 
 from xodrlint.concurrency.background import receive_hits, send_hits
-from xodrlint.document.positions import TreePositions
+from xodrlint.document.positions import TreePositions, lines_of, lines_with_breaks
 from xodrlint.findings import Hit
 from xodrlint.validation.libxml2 import _ElementLocator
 from xodrlint.validation.messages import Explained
@@ -87,3 +87,12 @@ def test_hits_cross_a_fork_as_positions() -> None:
     back = receive_hits(send_hits(hits, root), root)
     assert [hit.element for hit in back] == [hit.element for hit in hits]
     assert back[-1].line == 3
+
+
+def test_lines_break_where_xml_breaks_them() -> None:
+    # "\r\n", "\n" and a lone "\r"; not U+2028 or NEL, where splitlines breaks too
+    text = "a\r\nb\rc\u2028d\x85e\nf"
+    assert lines_of(text) == ["a", "b", "c\u2028d\x85e", "f"]
+    assert lines_with_breaks(text) == ["a\r\n", "b\r", "c\u2028d\x85e\n", "f"]
+    assert lines_with_breaks("a\n\n") == ["a\n", "\n"] and lines_of("a\n\n") == ["a", "", ""]
+    assert lines_with_breaks("") == [] and lines_of("") == [""]

@@ -26,7 +26,7 @@ from typing import Final, NamedTuple
 
 from lxml import etree
 
-from xodrlint.document.positions import MARKUP_PATTERN, document_comments
+from xodrlint.document.positions import LINE_BREAK, MARKUP_PATTERN, document_comments
 from xodrlint.fixes import Fix, InsertElement, ReplaceComment, SetAttribute, TextEdit
 
 
@@ -67,7 +67,6 @@ _NODE: Final = re.compile(
     r"<!--.*?-->|<!\[CDATA\[.*?\]\]>|<\?.*?\?>|</[^>]*>|<(?:[^>\"']|\"[^\"]*\"|'[^']*')*>",
     re.DOTALL,
 )
-_BREAK: Final = re.compile(r"\r\n|\r|\n")
 #: An attribute name as a source spells it (a prefix is written as it is, never lxml's
 #: ``{namespace}`` form).
 _NAME: Final = re.compile(r"[^\W\d][\w.\-]*(?::[^\W\d][\w.\-]*)?")
@@ -339,14 +338,14 @@ class EditableSource:
             return "\r\n"
         if before >= 1:
             return self.text[before - 1]
-        found = _BREAK.search(self.text)
+        found = LINE_BREAK.search(self.text)
         return found.group() if found else "\n"
 
     def position(self, offset: int) -> tuple[int, int]:
         """The line and column (1-based, in characters, a byte order mark not counted)
         of ``offset``, as a finding's are counted."""
         if self._line_starts is None:
-            self._line_starts = [0, *(found.end() for found in _BREAK.finditer(self.text))]
+            self._line_starts = [0, *(found.end() for found in LINE_BREAK.finditer(self.text))]
         line = bisect.bisect_right(self._line_starts, offset)
         column = offset - self._line_starts[line - 1] + 1
         if line == 1 and self.text.startswith("\ufeff"):
@@ -414,12 +413,12 @@ def _line_start(text: str, offset: int) -> int:
 
 
 def _line_end(text: str, offset: int) -> int:
-    found = _BREAK.search(text, offset)
+    found = LINE_BREAK.search(text, offset)
     return len(text) if found is None else found.start()
 
 
 def _after_break(text: str, offset: int) -> int:
-    found = _BREAK.match(text, offset)
+    found = LINE_BREAK.match(text, offset)
     return offset if found is None else found.end()
 
 

@@ -415,13 +415,23 @@ def parser_position_by_line_ends(
     return ours.count("\n", 0, offset) + 1, (offset - line_start + 1 if column else None)
 
 
+#: A line break as XML, the positions, the fixes and ``patch`` count lines: "\\r\\n", "\\n"
+#: or a lone "\\r" (Python's ``splitlines`` also breaks at U+2028 and others).
+LINE_BREAK: Final = re.compile(r"\r\n|\r|\n")
+#: A line with its line break, or the last line without one.
+_LINE_AND_BREAK: Final = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)|[^\r\n]+\Z")
+
+
 def lines_of(text: str) -> list[str]:
-    """``text``'s lines, split at each line break the positions count: "\\r\\n", "\\n"
-    and a lone "\\r" (``--show-source`` and the language server read them)."""
-    return _LINE_BREAK.split(text)
+    """``text``'s lines, split at each :data:`LINE_BREAK` (``--show-source`` and the
+    language server read them)."""
+    return LINE_BREAK.split(text)
 
 
-_LINE_BREAK: Final = re.compile(r"\r\n|\r|\n")
+def lines_with_breaks(text: str) -> list[str]:
+    """``text``'s lines, each with its :data:`LINE_BREAK` (the last one may have none):
+    joined, they are ``text`` again."""
+    return _LINE_AND_BREAK.findall(text)
 
 
 def _is_wide(data: bytes) -> bool:

@@ -16,11 +16,11 @@ report is the fixed source's.
 from __future__ import annotations
 
 import difflib
-import re
 from collections import Counter
 from collections.abc import Callable, Iterable, Sequence
 from typing import TYPE_CHECKING, Final, NamedTuple
 
+from xodrlint.document.positions import lines_with_breaks
 from xodrlint.findings import FileReport, Finding
 from xodrlint.fixes import Applicability
 
@@ -31,8 +31,6 @@ if TYPE_CHECKING:
 #: At most this many passes over one file (ruff's limit is 100; fixes of a railroad map
 #: seldom reveal more than one more).
 MAX_PASSES: Final = 10
-#: A line with its line break ("\\r\\n", "\\n" or a lone "\\r"), or the last line without one.
-_LINE: Final = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)|[^\r\n]+\Z")
 #: What ``--fix`` does with what it fixed: write it back, or show it as a diff.
 APPLY: Final = "apply"
 DIFF: Final = "diff"
@@ -134,8 +132,8 @@ def diff_of(before: bytes, after: bytes, codec: str, path: str) -> str:
     """A unified diff of ``before`` and ``after``, decoded with ``codec``, in lines as XML
     and ``patch`` count them (a line ends at "\\r\\n", "\\n" or a lone "\\r"; Python's
     ``splitlines`` also breaks at U+2028 and others, which would misnumber the hunks)."""
-    old = _LINE.findall(before.decode(codec).removeprefix("\ufeff"))
-    new = _LINE.findall(after.decode(codec).removeprefix("\ufeff"))
+    old = lines_with_breaks(before.decode(codec).removeprefix("\ufeff"))
+    new = lines_with_breaks(after.decode(codec).removeprefix("\ufeff"))
     lines = difflib.unified_diff(old, new, fromfile=f"a/{path}", tofile=f"b/{path}")
     return "".join(line if line.endswith(("\n", "\r")) else line + "\n" for line in lines)
 

@@ -10,11 +10,11 @@ from typing import Final
 
 from lsprotocol import types
 
+from xodrlint.document.positions import LINE_BREAK
 from xodrlint.rules.registry import Registry
 from xodrlint.server.convert import SOURCE, units
 
 _INDENT: Final = re.compile(r"[ \t]*")
-_BREAK: Final = re.compile(r"\r\n|\r|\n")
 _DECLARATION: Final = re.compile(r"\s*<\?xml[^>]*\?>")
 #: The code of a file that is not well-formed, which no comment in it can withhold.
 UNPARSED: Final = "XS001"
@@ -196,5 +196,5 @@ def _position_at(text: str, offset: int, encoding: str) -> types.Position:
     """Where ``offset`` of ``text`` is, as the protocol counts lines ("\\r\\n", "\\n" or a
     lone "\\r") and characters (the client's encoding)."""
     line_start = max(text.rfind("\n", 0, offset), text.rfind("\r", 0, offset)) + 1
-    line = len(_BREAK.findall(text, 0, line_start))
+    line = len(LINE_BREAK.findall(text, 0, line_start))
     return types.Position(line, units(text[line_start:offset], encoding))
