@@ -6,7 +6,13 @@ from __future__ import annotations
 from lxml import etree
 
 from xodrlint.concurrency.background import receive_hits, send_hits
-from xodrlint.document.positions import TreePositions, lines_of, lines_with_breaks
+from xodrlint.document.positions import (
+    TreePositions,
+    decode_wide,
+    lines_of,
+    lines_with_breaks,
+    wide_encoding,
+)
 from xodrlint.findings import Hit
 from xodrlint.validation.libxml2 import _ElementLocator
 from xodrlint.validation.messages import Explained
@@ -96,3 +102,16 @@ def test_lines_break_where_xml_breaks_them() -> None:
     assert lines_with_breaks(text) == ["a\r\n", "b\r", "c\u2028d\x85e\n", "f"]
     assert lines_with_breaks("a\n\n") == ["a\n", "\n"] and lines_of("a\n\n") == ["a", "", ""]
     assert lines_with_breaks("") == [] and lines_of("") == [""]
+
+
+def test_one_sniffer_tells_utf16_and_utf32_with_and_without_a_mark() -> None:
+    text = '<?xml version="1.0"?>\n<OpenDRIVE/>'
+    for codec in ("utf-16-le", "utf-16-be", "utf-32-le", "utf-32-be"):
+        plain = text.encode(codec)
+        marked = "\ufeff".encode(codec) + plain
+        assert wide_encoding(plain) == (codec, 0)
+        assert wide_encoding(marked) == (codec, len(marked) - len(plain))
+        assert decode_wide(plain, (codec, 0)) == text == decode_wide(marked, (codec, 0))[1:]
+        assert decode_wide(marked, (codec, len(marked) - len(plain))) == text
+    for eight_bit in (text.encode(), b"\xef\xbb\xbf" + text.encode(), b"<", b""):
+        assert wide_encoding(eight_bit) is None

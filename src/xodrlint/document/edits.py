@@ -26,7 +26,12 @@ from typing import Final, NamedTuple
 
 from lxml import etree
 
-from xodrlint.document.positions import LINE_BREAK, MARKUP_PATTERN, document_comments
+from xodrlint.document.positions import (
+    LINE_BREAK,
+    MARKUP_PATTERN,
+    document_comments,
+    wide_encoding,
+)
 from xodrlint.fixes import Fix, InsertElement, ReplaceComment, SetAttribute, TextEdit
 
 
@@ -92,13 +97,6 @@ _AGREEING: Final = frozenset(
 )
 #: Codecs whose bytes for a character depend on those before it.
 _STATEFUL: Final = ("iso2022", "utf-7", "hz")
-_BOMS: Final = (
-    (codecs.BOM_UTF32_LE, "utf-32-le"),
-    (codecs.BOM_UTF32_BE, "utf-32-be"),
-    (codecs.BOM_UTF8, "utf-8"),
-    (codecs.BOM_UTF16_LE, "utf-16-le"),
-    (codecs.BOM_UTF16_BE, "utf-16-be"),
-)
 
 
 class EditableSource:
@@ -449,15 +447,10 @@ def _codec_of(data: bytes, parsed: str | None) -> str:
     a character of the text; else the encoding the parser read it in (``parsed``, its
     document information's); else UTF-8 (or UTF-16 or UTF-32 without a mark, which the
     zero bytes of its first characters show)."""
-    for mark, codec in _BOMS:
-        if data.startswith(mark):
-            return codec
-    head = data[:4]
-    if len(head) == 4 and head.count(b"\x00") == 3:
-        return "utf-32-be" if head[:1] == b"\x00" else "utf-32-le"
-    if len(head) > 1 and b"\x00" in head[:2]:
-        return "utf-16-be" if head[:1] == b"\x00" else "utf-16-le"
-    if not parsed:
+    wide = wide_encoding(data)  # (a codec of one byte order, which reads a mark as text)
+    if wide is not None:
+        return wide[0]
+    if data.startswith(codecs.BOM_UTF8) or not parsed:
         return "utf-8"
     try:
         return codecs.lookup(parsed).name

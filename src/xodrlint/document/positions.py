@@ -385,12 +385,12 @@ def _ascii_compatible(data: bytes) -> tuple[bytes, bool]:
     every editor (and the language server protocol) take it: libxml2 counts no lone "\\r",
     so a file of old Mac line ends was one line of libxml2's.
     """
-    widened = _is_wide(data)
-    if widened:
-        data = _decode_wide(data).encode("utf-8", "surrogatepass")
+    wide = wide_encoding(data)
+    if wide is not None:
+        data = decode_wide(data, wide).encode("utf-8", "surrogatepass")
     if b"\r" in data:
         data = data.replace(b"\r\n", b"\n").replace(b"\r", b"\n")
-    return data, widened
+    return data, wide is not None
 
 
 def parser_position_by_line_ends(
@@ -401,7 +401,8 @@ def parser_position_by_line_ends(
     The column counts characters from the line's start, as libxml2's does."""
     if b"\r" not in data.replace(b"\r\n", b""):
         return line, column
-    raw = _decode_wide(data) if _is_wide(data) else data.decode("utf-8", "replace")
+    wide = wide_encoding(data)
+    raw = decode_wide(data, wide) if wide is not None else data.decode("utf-8", "replace")
     libxml2_lines = raw.replace("\r\n", "\n")  # libxml2's lines: split at "\n" alone
     start = 0
     for _ in range(max(line, 1) - 1):
@@ -434,29 +435,36 @@ def lines_with_breaks(text: str) -> list[str]:
     return _LINE_AND_BREAK.findall(text)
 
 
-def _is_wide(data: bytes) -> bool:
-    """Whether ``data`` is UTF-16 or UTF-32: a byte order mark, or the zero bytes of its
-    first characters."""
-    return data[:2] in (b"\xff\xfe", b"\xfe\xff") or (len(data) > 1 and b"\x00" in data[:4])
+#: The byte order marks of UTF-32 and UTF-16, longest first (UTF-32 LE's begins with
+#: UTF-16 LE's).
+_WIDE_MARKS: Final = (
+    (b"\xff\xfe\x00\x00", "utf-32-le"),
+    (b"\x00\x00\xfe\xff", "utf-32-be"),
+    (b"\xff\xfe", "utf-16-le"),
+    (b"\xfe\xff", "utf-16-be"),
+)
 
 
-def _decode_wide(data: bytes) -> str:
-    """UTF-16 or UTF-32 text; without a byte order mark, the zero bytes of '<' tell the
-    byte order ("<\\0" little-endian, "\\0<" big-endian), as libxml2 reads it."""
+def wide_encoding(data: bytes) -> tuple[str, int] | None:
+    """The UTF-32 or UTF-16 codec ``data`` is written in, byte order included, and the
+    length of its byte order mark (0 without one); ``None`` for an encoding whose '<' is
+    one byte (UTF-8, or what the declaration names). Without a mark, the zero bytes of
+    the first character tell, as libxml2 reads them: three of four for UTF-32, one of two
+    for UTF-16, "<\\0" little-endian and "\\0<" big-endian. The one sniffer of the
+    positions, the edits and the rule cases."""
+    for mark, codec in _WIDE_MARKS:
+        if data.startswith(mark):
+            return codec, len(mark)
     head = data[:4]
-    if head.count(b"\x00") == 3:
-        candidates: tuple[str, ...] = ("utf-32",) if head in _UTF32_BOMS else ()
-        candidates += ("utf-32-be",) if head[:1] == b"\x00" else ("utf-32-le",)
-    elif head[:2] in (b"\xff\xfe", b"\xfe\xff"):
-        candidates = ("utf-16",)
-    else:
-        candidates = ("utf-16-be",) if head[:1] == b"\x00" else ("utf-16-le",)
-    for codec in candidates:
-        try:
-            return data.decode(codec)
-        except UnicodeDecodeError:
-            continue
-    return data.decode(candidates[-1], errors="replace")
+    if len(head) == 4 and head.count(b"\x00") == 3:
+        return ("utf-32-be" if head[:1] == b"\x00" else "utf-32-le"), 0
+    if len(head) > 1 and b"\x00" in head[:2]:
+        return ("utf-16-be" if head[:1] == b"\x00" else "utf-16-le"), 0
+    return None
 
 
-_UTF32_BOMS: Final = (b"\xff\xfe\x00\x00", b"\x00\x00\xfe\xff")
+def decode_wide(data: bytes, wide: tuple[str, int]) -> str:
+    """UTF-32 or UTF-16 ``data`` (:func:`wide_encoding` said which) as text, without its
+    byte order mark; a malformed sequence becomes U+FFFD."""
+    codec, mark = wide
+    return data[mark:].decode(codec, "replace")

@@ -65,22 +65,13 @@ class RuleCase:
 
 
 def case_text(path: Path) -> str:
-    """A case's text: UTF-16 or UTF-32 where a byte order mark says so (a case of an
-    encoding), else UTF-8; every line break a newline."""
-    import codecs
+    """A case's text: UTF-16 or UTF-32 where the file is (a case of an encoding), else
+    UTF-8; every line break a newline."""
+    from xodrlint.document.positions import decode_wide, wide_encoding
 
     data = path.read_bytes()
-    codec = "utf-8-sig"
-    for mark, name in (
-        (codecs.BOM_UTF32_LE, "utf-32"),
-        (codecs.BOM_UTF32_BE, "utf-32"),
-        (codecs.BOM_UTF16_LE, "utf-16"),
-        (codecs.BOM_UTF16_BE, "utf-16"),
-    ):
-        if data.startswith(mark):
-            codec = name
-            break
-    text = data.decode(codec, errors="replace")
+    wide = wide_encoding(data)
+    text = decode_wide(data, wide) if wide is not None else data.decode("utf-8-sig", "replace")
     return text.replace("\r\n", "\n").replace("\r", "\n")
 
 
