@@ -8,6 +8,7 @@ import os
 import stat
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 from lxml import etree
@@ -133,15 +134,25 @@ def test_fix_writes_the_file_back_keeping_its_mode(tmp_path: Path) -> None:
     assert again.fixed == 0 and target.read_bytes() == MISMATCH_FIXED.read_bytes()
 
 
-def test_a_read_only_file_is_not_written(tmp_path: Path) -> None:
+def test_a_read_only_file_is_not_written(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     target = tmp_path / "a.xodr"
     target.write_bytes(MISMATCH.read_bytes())
     target.chmod(0o444)
     linter = _linter(default_registry(), ("PT003",), mode=APPLY)
+    linted: list[bytes] = []
+    real = linter._lint_once
+
+    def counted(data: bytes, *args: Any) -> Any:
+        linted.append(data)
+        return real(data, *args)
+
+    monkeypatch.setattr(linter, "_lint_once", counted)
     report = linter.lint_path(target, "a.xodr")
     assert report.error == "a.xodr: not fixed: is read-only"
     assert target.read_bytes() == MISMATCH.read_bytes()
     assert [f.code for f in report.findings] == ["PT003"]  # the file's, as it stays
+    # the file as read, then as fixed: its report is the first lint's, not a third one
+    assert linted == [MISMATCH.read_bytes(), MISMATCH_FIXED.read_bytes()]
 
 
 def test_a_file_changed_since_it_was_read_is_not_written(tmp_path: Path) -> None:

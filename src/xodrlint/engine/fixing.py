@@ -81,6 +81,9 @@ class Fixed(NamedTuple):
 
     report: FileReport
     data: bytes
+    first: FileReport
+    """The report of the source as it was, before any fix (where the fixed bytes cannot
+    be written, it is the file's)."""
 
 
 class Linted(NamedTuple):
@@ -101,6 +104,7 @@ def fix_source(data: bytes, lint: Lint, policy: FixPolicy) -> Fixed:
     from xodrlint.document.edits import EditableSource
 
     report, source, _ = lint(data)
+    first = report
     fixed = 0
     refused: set[tuple[str, str, str]] = set()  # fixes rolled back: not tried again
     crashes: list[str] = []
@@ -125,7 +129,7 @@ def fix_source(data: bytes, lint: Lint, policy: FixPolicy) -> Fixed:
         data, report, source = outcome.data, outcome.report, outcome.source
         fixed += outcome.applied
     internal = (*report.internal_errors, *crashes)
-    return Fixed(report._replace(fixed=fixed, internal_errors=internal), data)
+    return Fixed(report._replace(fixed=fixed, internal_errors=internal), data, first)
 
 
 def diff_of(before: bytes, after: bytes, codec: str, path: str) -> str:

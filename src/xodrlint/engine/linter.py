@@ -290,9 +290,8 @@ class Linter:
 
         try:
             replace_file(path, data, fixed.data, root)
-        except WriteRefused as refused:
-            unchanged, _ = self._lint_once(data, shown, external, path)
-            return unchanged._replace(error=f"{shown}: not fixed: {refused}")
+        except WriteRefused as refused:  # the file stays as it was: so does its report
+            return fixed.first._replace(error=f"{shown}: not fixed: {refused}")
         return fixed.report
 
     def lint_url(
