@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from lxml import etree
 
-from xodrlint.document.edits import Edit, EditableSource, EditError
+from xodrlint.document.edits import Edit, EditableSource, EditError, common_ends
 from xodrlint.document.load import parse_root
 
 SWITCH = (
@@ -368,3 +368,11 @@ def test_children_inserted_beside_other_markup_stand_beside_each_other() -> None
     assert plan is not None
     edit = source.insert_element(plan, "link", [], "before", [("predecessor", [("a", "1")])])
     assert source.apply([edit]) == b'<road><link><predecessor a="1"/></link><planView/></road>'
+
+
+def test_common_ends_never_count_a_character_twice() -> None:
+    assert common_ends("abcabc", "abc") == (3, 0)
+    assert common_ends("aXb", "aYb") == (1, 1)
+    assert common_ends("aaa", "aaaa") == (3, 0)
+    assert common_ends("", "x") == (0, 0)
+    assert common_ends("same", "same") == (4, 0)

@@ -262,8 +262,7 @@ class EditableSource:
             raise EditError("the text cannot stand in a comment of this file")
         raw = self.text[start + 4 : end - 3]
         old = _normalised(raw)
-        prefix = _common_prefix(old, text)
-        suffix = _common_prefix(old[prefix:][::-1], text[prefix:][::-1])
+        prefix, suffix = common_ends(old, text)
         middle = text[prefix : len(text) - suffix].replace("\n", self._line_break(start))
         begin = start + 4 + _raw_index(raw, prefix)
         stop = start + 4 + _raw_index(raw, len(old) - suffix)
@@ -433,13 +432,17 @@ def _raw_index(raw: str, index: int) -> int:
     return at
 
 
-def _common_prefix(first: str, second: str) -> int:
-    size = 0
-    for left, right in zip(first, second, strict=False):
-        if left != right:
-            break
-        size += 1
-    return size
+def common_ends(before: str, after: str) -> tuple[int, int]:
+    """How many characters ``before`` and ``after`` share at their start, and then at
+    their end (never the same character twice): what lies between is all that differs."""
+    limit = min(len(before), len(after))
+    head = 0
+    while head < limit and before[head] == after[head]:
+        head += 1
+    tail = 0
+    while tail < limit - head and before[-1 - tail] == after[-1 - tail]:
+        tail += 1
+    return head, tail
 
 
 def _codec_of(data: bytes, parsed: str | None) -> str:

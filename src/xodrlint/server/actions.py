@@ -10,6 +10,7 @@ from typing import Final
 
 from lsprotocol import types
 
+from xodrlint.document.edits import common_ends
 from xodrlint.document.positions import LINE_BREAK
 from xodrlint.rules.registry import Registry
 from xodrlint.server.convert import SOURCE, units
@@ -167,15 +168,10 @@ def fix_all_action(
     where nothing changes."""
     if before == after:
         return None
-    head = 0
-    limit = min(len(before), len(after))
-    while head < limit and before[head] == after[head]:
-        head += 1
+    head, tail = common_ends(before, after)
     if 0 < head < len(before) and before[head - 1 : head + 1] == "\r\n":
         head -= 1  # never between the two characters of one line break
-    tail = 0
-    while tail < limit - head and before[-1 - tail] == after[-1 - tail]:
-        tail += 1
+        tail = common_ends(before[head:], after[head:])[1]
     end = len(before) - tail
     if tail and 0 < end < len(before) and before[end - 1 : end + 1] == "\r\n":
         tail -= 1
