@@ -396,3 +396,21 @@ def test_an_included_file_is_parsed_as_a_checked_file_is(tmp_path: Path, broken:
     [finding] = _findings(main, "--select", "XS007")
     expected = f"is not well-formed XML at line {alone['line']}: {alone['message']}"
     assert finding["message"] == f"include 'parts/branch.xml' {expected}"
+
+
+def test_a_map_is_searched_for_include_once() -> None:
+    # the byte search runs over the whole file: the linter and has_includes both ask
+    from xodrlint.document.includes import has_includes
+    from xodrlint.document.load import load_bytes
+
+    searched: list[object] = []
+
+    class Searched(bytes):
+        def __contains__(self, part: object) -> bool:
+            searched.append(part)
+            return super().__contains__(part)  # type: ignore[operator]
+
+    doc = load_bytes(b'<OpenDRIVE><header revMajor="1" revMinor="7"/></OpenDRIVE>', "a.xodr")
+    doc.data = Searched(doc.data)
+    assert not doc.may_include and not has_includes(doc) and not doc.may_include
+    assert searched == [b"include"]

@@ -102,11 +102,12 @@ class Document:
     parts: list[IncludedPart] = field(default_factory=list)
     spliced: dict[etree._Element, IncludedPart] = field(default_factory=dict)
 
-    @property
+    @cached_property
     def may_include(self) -> bool:
         """Whether the file may hold an ``include``: a byte search, as most maps hold
         none and walking a city map's tree costs more (a file in UTF-16 or UTF-32, where
-        the word is no such run of bytes, may)."""
+        the word is no such run of bytes, may). Searched once: the linter and
+        :func:`~xodrlint.document.includes.has_includes` both ask."""
         return b"include" in self.data or b"\0" in self.data[:4]
 
     @property
