@@ -1086,6 +1086,18 @@ def test_verbose_says_where_the_assertions_ran(cache: Path, tmp_path: Path) -> N
     schema = str(SHARED_SCHEMAS / "1.9.0")
     result = CliRunner().invoke(app, ["check", "-v", "--schema", schema, str(path)])
     assert "assertions: 24 in libxml2's XPath" in result.stderr, result.stderr
+    # a file only full validation reads right says so, and the next file its own route
+    odd = tmp_path / "odd.xodr"
+    odd.write_bytes(_document("1.9.0", {}).replace(b'revMinor="9"', b'revMinor="9" x="+INF"'))
+    result = CliRunner().invoke(app, ["check", "-v", "--schema", schema, str(odd), str(path)])
+    lines = {
+        Path(line.split(":")[1].strip()).name: line
+        for line in result.stderr.splitlines()
+        if line.startswith("xodrlint: /")
+    }
+    odd_line, map_line = lines["odd.xodr"], lines["map.xodr"]
+    assert "full XSD 1.1 validation in xmlschema (the file uses xsi:type" in odd_line, odd_line
+    assert "assertions: 24 in libxml2's XPath" in map_line, map_line
 
 
 def test_the_translated_assertions_run_in_the_first_part_beside_the_rules(

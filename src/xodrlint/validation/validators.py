@@ -137,7 +137,9 @@ class SchemaValidators:
             found = tuple(finish(_timed(hits.result, waited)))
             own = time.perf_counter() - began - sum(waited)
             seconds = beside[0] + own if beside else None
-            return SchemaCheck(schema, found, seconds, getattr(validator, "route", None))
+            route_of = getattr(validator, "route_of", None)  # (each file's, where it differs)
+            route = route_of(doc) if route_of is not None else getattr(validator, "route", None)
+            return SchemaCheck(schema, found, seconds, route)
 
         return Pending(check)
 

@@ -46,6 +46,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import weakref
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any, Final, Protocol
@@ -74,8 +75,9 @@ MODE_ENV: Final = "XODRLINT_XSD11"
 Finish = Callable[[Callable[[], list[Hit]]], list[Hit]]
 
 #: What the assertion stage found: "checked" with its hits, "marks" (an element stands
-#: where a type alternative applies after all) or "full" (with the schema's reason, if
-#: the reason is the schema's), its hits as positions in the tree.
+#: where a type alternative applies after all), "full" (only full validation reads the
+#: document right, and why) or "unsupported" (nor any document of the schema, and why),
+#: its hits as positions in the tree.
 _Stage = tuple[str, str, list[background.SentHit]]
 
 
@@ -120,6 +122,8 @@ class FastXsd11Validator:
         self._unsupported: str | None = None
         self._selectors: Selectors | None = None
         self._selectors_read = False
+        # the documents full validation judged, and why (``-v`` says so for each)
+        self._judged_in_full: weakref.WeakKeyDictionary[Document, str] = weakref.WeakKeyDictionary()
 
     @property
     def full(self) -> Any:
@@ -177,6 +181,17 @@ class FastXsd11Validator:
             words.append(f"type alternatives in xmlschema ({selectors.why_not_marks})")
         return "; ".join(words)
 
+    def route_of(self, doc: Document) -> str:
+        """:attr:`route` for ``doc``, or why it went to full validation."""
+        why = self._judged_in_full.get(doc)
+        if why is None:
+            return self.route
+        return f"full XSD 1.1 validation in xmlschema ({why})"
+
+    def _in_full(self, doc: Document, why: NeedsFull) -> list[Hit]:
+        self._judged_in_full[doc] = str(why) or "this document"
+        return list(self.full.hits(doc))
+
     def model(self) -> SchemaModel:
         if self._model is None:
             selectors = self.selectors()
@@ -192,8 +207,8 @@ class FastXsd11Validator:
         assert doc.tree is not None
         try:
             found = list(self._fast_hits(doc))
-        except NeedsFull:
-            found = list(self.full.hits(doc))
+        except NeedsFull as why:
+            found = self._in_full(doc, why)
         yield from found
 
     def stages(self, doc: Document) -> tuple[Callable[[], list[Hit]], Finish, bool]:
@@ -259,8 +274,10 @@ class FastXsd11Validator:
             if plan.marks:
                 return ("marks", "", [])
             hits = self._assertion_hits(root, model, plan)
-        except NeedsFull:
-            return ("full", self._unsupported or "", [])
+        except NeedsFull as why:
+            if self._unsupported is not None:
+                return ("unsupported", self._unsupported, [])
+            return ("full", str(why), [])
         return ("checked", "", background.send_hits(hits, root))
 
     def _finish_in_order(
@@ -283,17 +300,17 @@ class FastXsd11Validator:
     def _finish(self, doc: Document, raw: list[Hit], stage: _Stage) -> list[Hit]:
         assert doc.tree is not None
         root = doc.tree.getroot()
-        outcome, unsupported, sent = stage
+        outcome, why, sent = stage
         try:
-            if outcome == "full":
-                if unsupported:  # the schema's, not this document's: skip the split next time
-                    self._unsupported = unsupported
-                raise NeedsFull(unsupported or "this document")
+            if outcome == "unsupported":  # the schema's reason: skip the split next time
+                self._unsupported = why
+            if outcome in ("full", "unsupported"):
+                raise NeedsFull(why or "this document")
             if outcome == "marks":  # the sites say this cannot be; if it is, use the marks
                 return list(self._fast_hits(doc))
             return list(self._checked(root, raw, background.receive_hits(sent, root)))
-        except NeedsFull:
-            return list(self.full.hits(doc))
+        except NeedsFull as why:
+            return self._in_full(doc, why)
 
     def _prepare(
         self, doc: Document, root: etree._Element, checked: Checked | None = None
