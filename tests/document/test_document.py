@@ -7,6 +7,7 @@ import codecs
 import pytest
 from lxml import etree
 
+from tests.conftest import REPO
 from xodrlint.document.load import ASAM_LEGACY_NAMESPACE, Version, load_bytes, nearest_published
 
 HEADER = '<header revMajor="1" revMinor="7"/>'
@@ -248,25 +249,26 @@ def test_a_file_in_the_namespace_of_the_11_and_12_schemas_is_read_without_it() -
     assert doc.root[0].tag == "header" and str(doc.declared) == "1.2"
 
 
-def test_the_indentation_between_elements_is_not_kept_in_the_tree() -> None:
-    # a blank text node for every line break between elements was a seventh of a 20 MB
-    # railway's memory (528 MB against 460 MB) for nothing a rule or libxml2 reads; text
-    # that is a value (blanks alone in an element, xml:space="preserve", text beside a
-    # comment) stays as written
-    data = (
-        b'<OpenDRIVE>\n  <header revMajor="1" revMinor="7"/>\n  <road id="1">\n'
-        b"    <planView/>\n  </road>\n  <userData>   </userData>\n"
-        b'  <userData xml:space="preserve">\n    <a/>\n  </userData>\n'
-        b"  <userData> 5 <!--x--> </userData>\n</OpenDRIVE>\n"
-    )
-    root = load_bytes(data, "blanks.xodr").root
-    assert root is not None
-    assert root.text is None and root[0].tail is None and root[1].text is None
-    blank, preserved, commented = root.findall("userData")
-    assert blank.text == "   "
-    assert preserved.text == "\n    " and preserved[0].tail == "\n  "
-    assert commented.text == " 5 " and commented[0].tail == " "
-    road = root.find("road")
-    assert road is not None
-    lines: tuple[object, object] = (road.sourceline, road[0].sourceline)
-    assert lines == (3, 4)
+@pytest.mark.parametrize(
+    ("inside", "messages"),
+    [
+        ("\n          <!-- the main line -->\n        ", ["character content is not allowed"]),
+        ("\n          <?note x?>\n        ", ["character content is not allowed"]),
+        (
+            "\n          <extra/>\n        ",
+            ["character content is not allowed", "element content is not allowed"],
+        ),
+    ],
+)
+def test_blanks_the_schema_counts_stay_in_the_tree(inside: str, messages: list[str]) -> None:
+    # an element of empty content may hold no blank either: libxml2's remove_blank_text
+    # would drop those beside a comment, a processing instruction or an element child
+    from xodrlint.api import lint_bytes
+
+    data = (REPO / "rules" / "SW001" / "valid_crossover.xodr").read_bytes()
+    tag = b'<mainTrack id="1" s="30" dir="+"/>'
+    assert tag in data
+    broken = data.replace(tag, tag[:-2] + b">" + inside.encode() + b"</mainTrack>", 1)
+    report = lint_bytes(broken, "a.xodr", select=("XS006",))
+    found = sorted({f.message.split(": ", 1)[1].split(",")[0] for f in report.findings})
+    assert found == messages, [f.message for f in report.findings]
