@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from lxml import etree
 
-from xodrlint.document.edits import Edit, EditableSource, EditError, common_ends
+from xodrlint.document.edits import Edit, EditableSource, EditError, common_ends, common_tail
 from xodrlint.document.load import parse_root
 
 SWITCH = (
@@ -376,3 +376,5 @@ def test_common_ends_never_count_a_character_twice() -> None:
     assert common_ends("aaa", "aaaa") == (3, 0)
     assert common_ends("", "x") == (0, 0)
     assert common_ends("same", "same") == (4, 0)
+    # the tail alone, past a head the caller chose
+    assert common_tail("\r\n", "\r\r\n", 0) == 2 and common_tail("\r\n", "\r\r\n", 1) == 1

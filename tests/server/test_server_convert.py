@@ -119,3 +119,9 @@ def test_a_fix_is_placed_in_the_clients_units_and_fix_all_keeps_crlf() -> None:
     assert longer is not None and longer.edit is not None and longer.edit.changes is not None
     (added,) = longer.edit.changes["u"]
     assert added.new_text == "\r\n" and added.range.start == types.Position(3, 0)
+    # moved back off a break, the edit is still the least one: a lone "\r" inserted
+    lone = fix_all_action("u", "\r\n", "\r\r\n", "utf-16")
+    assert lone is not None and lone.edit is not None and lone.edit.changes is not None
+    (inserted,) = lone.edit.changes["u"]
+    assert inserted.new_text == "\r"
+    assert inserted.range == types.Range(types.Position(0, 0), types.Position(0, 0))

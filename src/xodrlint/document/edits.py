@@ -439,10 +439,17 @@ def common_ends(before: str, after: str) -> tuple[int, int]:
     head = 0
     while head < limit and before[head] == after[head]:
         head += 1
+    return head, common_tail(before, after, head)
+
+
+def common_tail(before: str, after: str, head: int) -> int:
+    """How many characters ``before`` and ``after`` share at their end, none of their
+    first ``head``."""
+    limit = min(len(before), len(after)) - head
     tail = 0
-    while tail < limit - head and before[-1 - tail] == after[-1 - tail]:
+    while tail < limit and before[-1 - tail] == after[-1 - tail]:
         tail += 1
-    return head, tail
+    return tail
 
 
 def _codec_of(data: bytes, parsed: str | None) -> str:

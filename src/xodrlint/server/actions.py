@@ -10,7 +10,7 @@ from typing import Final
 
 from lsprotocol import types
 
-from xodrlint.document.edits import common_ends
+from xodrlint.document.edits import common_ends, common_tail
 from xodrlint.document.positions import LINE_BREAK
 from xodrlint.rules.registry import Registry
 from xodrlint.server.convert import SOURCE, units
@@ -171,7 +171,7 @@ def fix_all_action(
     head, tail = common_ends(before, after)
     if 0 < head < len(before) and before[head - 1 : head + 1] == "\r\n":
         head -= 1  # never between the two characters of one line break
-        tail = common_ends(before[head:], after[head:])[1]
+        tail = common_tail(before, after, head)
     end = len(before) - tail
     if tail and 0 < end < len(before) and before[end - 1 : end + 1] == "\r\n":
         tail -= 1

@@ -38,7 +38,7 @@ _BUILTIN_TYPES: Final = {
 
 
 #: More restrictions of restrictions than any schema writes: a loop in a broken one ends here.
-_LONGEST_CHAIN: Final = 8
+_LONGEST_CHAIN: Final = 16
 
 
 class TypeCatalog(NamedTuple):
