@@ -6,6 +6,7 @@ cache of derived schema forms is written once, keyed by content, and optional.""
 from __future__ import annotations
 
 import json
+import os
 import re
 import shutil
 import subprocess
@@ -22,7 +23,7 @@ from hypothesis import strategies as st
 from lxml import etree
 from typer.testing import CliRunner
 
-from tests.conftest import CORPUS_RAIL, REPO, SHARED, SHARED_SCHEMAS, needs_shared
+from tests.conftest import CORPUS_RAIL, REPO, SHARED, SHARED_SCHEMAS, needs_shared, record_forks
 from xodrlint.cli import app
 from xodrlint.concurrency import background
 from xodrlint.document.load import Document, load_bytes
@@ -826,7 +827,6 @@ def test_a_broken_pickle_is_built_again(cache: Path) -> None:
 def test_the_fast_path_in_a_forked_child_marks_types_there_or_in_the_fallback(
     pairs: dict[str, Pair], monkeypatch: pytest.MonkeyPatch, child: str
 ) -> None:
-    import os
 
     fast = pairs["1.9.0"].fast
     data = _document("1.9.0", ALTERNATIVE_CASES["connection", "@type='virtual'"])
@@ -1283,3 +1283,22 @@ def test_a_document_is_screened_for_xsi_type_once(
     doc = load_bytes(_document("1.9.0", parts), "junction.xodr")
     assert list(pairs["1.9.0"].fast.hits(doc))
     assert len(screened) == 1
+
+
+def test_a_forked_validation_still_says_why_it_went_to_full_validation(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # a map with a junction validates whole, in a forked child when it is large: the
+    # document is screened in the parent, so -v names the full route (the child's
+    # findings of its own would not come back)
+    monkeypatch.setattr(background, "MIN_BYTES", 0)
+    forked = record_forks(monkeypatch)
+    data = _document("1.9.0", ALTERNATIVE_CASES["junction", "@type='direct'"])
+    data = data.replace(b'revMinor="9"', b'revMinor="9" x="+INF"')
+    finder = SchemaFinder(SHARED_SCHEMAS / "1.9.0", environment={}, data_dir=tmp_path)
+    check = SchemaValidators(finder).start(load_bytes(data, "odd.xodr")).result()
+    assert check is not None and check.route is not None
+    assert check.route.startswith("full XSD 1.1 validation in xmlschema (the file uses"), (
+        check.route
+    )
+    assert forked  # (the route this is about)

@@ -204,12 +204,15 @@ class FastXsd11Validator:
         return self._model
 
     def hits(self, doc: Document) -> Iterator[Hit]:
+        yield from self._hits(doc)
+
+    def _hits(self, doc: Document, *, screened: bool = False) -> list[Hit]:
+        """:meth:`hits` (``screened``: the caller has :meth:`_screen`-ed ``doc``)."""
         assert doc.tree is not None
         try:
-            found = list(self._fast_hits(doc))
+            return list(self._fast_hits(doc, screened=screened))
         except NeedsFull as why:
-            found = self._in_full(doc, why)
-        yield from found
+            return self._in_full(doc, why)
 
     def stages(self, doc: Document) -> tuple[Callable[[], list[Hit]], Finish, bool]:
         """The validation in two parts, for a caller that runs the first one elsewhere (a
@@ -230,7 +233,14 @@ class FastXsd11Validator:
         root = doc.tree.getroot()
         sites = self.form.alternative_sites
         if sites is None or self._unsupported is not None or holds_a_site(doc, root, sites):
-            return (lambda: list(self.hits(doc))), (lambda first: list(first())), False
+            # screened here, not where the first part runs: a forked child's reason for
+            # full validation would not come back for -v
+            try:
+                self._screen(doc, root)
+            except NeedsFull as why:
+                self._judged_in_full[doc] = str(why)
+                return (lambda: list(self.full.hits(doc))), (lambda first: list(first())), False
+            return (lambda: self._hits(doc, screened=True)), (lambda first: list(first())), False
         selectors = self.selectors()
         if selectors is None:
             # xmlschema evaluates the assertions in the caller while libxml2's thread runs
@@ -335,10 +345,11 @@ class FastXsd11Validator:
         plan = model.plan(root)
         return model, Plan(plan.marks if marks is None else marks, plan.asserted, checked)
 
-    def _fast_hits(self, doc: Document) -> Iterator[Hit]:
+    def _fast_hits(self, doc: Document, *, screened: bool = False) -> Iterator[Hit]:
         assert doc.tree is not None
         root = doc.tree.getroot()
-        self._screen(doc, root)
+        if not screened:
+            self._screen(doc, root)
         marks = self._translated_marks(root)
         if marks is None:
             model, plan = self._prepare(doc, root)
