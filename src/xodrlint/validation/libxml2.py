@@ -387,7 +387,8 @@ def errors_to_hits(
     catalog: TypeCatalog,
     validation_root: etree._Element,
 ) -> Iterator[Hit]:
-    """One hit per libxml2 error, on the element it is about."""
+    """One hit per libxml2 error, on the element it is about (an error said twice of one
+    element, once)."""
     version = str(doc.declared) if doc.declared else None
     locator = _ElementLocator(validation_root)
     explained: list[tuple[Explained, etree._Element | None, int]] = []
@@ -400,10 +401,17 @@ def errors_to_hits(
     # A missing keyed attribute is one defect: libxml2 reports it twice (required, and
     # "not all fields of key ... evaluate to a node"); keep the first.
     missing = {id(el) for why, el, _ in explained if why.kind == "required" and el is not None}
+    # An error libxml2 repeats word for word on one element is one defect too: "character
+    # content is not allowed" comes once for each blank text node of an empty element.
+    said: set[tuple[int, str]] = set()
     firsts = FirstHolders(catalog)
     for why, element, line in explained:
         if why.kind == "key_field" and element is not None and id(element) in missing:
             continue
+        if element is not None:
+            if (id(element), why.message) in said:
+                continue
+            said.add((id(element), why.message))
         value = element.get(why.attribute) if element is not None and why.attribute else None
         if blank_special_number(why, value, catalog):
             continue
