@@ -435,11 +435,17 @@ def _raw_index(raw: str, index: int) -> int:
 def common_ends(before: str, after: str) -> tuple[int, int]:
     """How many characters ``before`` and ``after`` share at their start, and then at
     their end (never the same character twice): what lies between is all that differs."""
+    head = common_head(before, after)
+    return head, common_tail(before, after, head)
+
+
+def common_head(before: str, after: str) -> int:
+    """How many characters ``before`` and ``after`` share at their start."""
     limit = min(len(before), len(after))
     head = 0
     while head < limit and before[head] == after[head]:
         head += 1
-    return head, common_tail(before, after, head)
+    return head
 
 
 def common_tail(before: str, after: str, head: int) -> int:

@@ -10,7 +10,7 @@ from typing import Final
 
 from lsprotocol import types
 
-from xodrlint.document.edits import common_ends, common_tail
+from xodrlint.document.edits import common_head, common_tail
 from xodrlint.document.positions import LINE_BREAK
 from xodrlint.rules.registry import Registry
 from xodrlint.server.convert import SOURCE, units
@@ -168,10 +168,10 @@ def fix_all_action(
     where nothing changes."""
     if before == after:
         return None
-    head, tail = common_ends(before, after)
+    head = common_head(before, after)
     if 0 < head < len(before) and before[head - 1 : head + 1] == "\r\n":
         head -= 1  # never between the two characters of one line break
-        tail = common_tail(before, after, head)
+    tail = common_tail(before, after, head)
     end = len(before) - tail
     if tail and 0 < end < len(before) and before[end - 1 : end + 1] == "\r\n":
         tail -= 1

@@ -189,8 +189,11 @@ class FastXsd11Validator:
         return f"full XSD 1.1 validation in xmlschema ({why})"
 
     def _in_full(self, doc: Document, why: NeedsFull) -> list[Hit]:
-        self._judged_in_full[doc] = str(why) or "this document"
+        self._say_in_full(doc, why)
         return list(self.full.hits(doc))
+
+    def _say_in_full(self, doc: Document, why: NeedsFull) -> None:
+        self._judged_in_full[doc] = str(why) or "this document"
 
     def model(self) -> SchemaModel:
         if self._model is None:
@@ -238,7 +241,7 @@ class FastXsd11Validator:
             try:
                 self._screen(doc, root)
             except NeedsFull as why:
-                self._judged_in_full[doc] = str(why)
+                self._say_in_full(doc, why)
                 return (lambda: list(self.full.hits(doc))), (lambda first: list(first())), False
             return (lambda: self._hits(doc, screened=True)), (lambda first: list(first())), False
         selectors = self.selectors()
@@ -311,11 +314,11 @@ class FastXsd11Validator:
         assert doc.tree is not None
         root = doc.tree.getroot()
         outcome, why, sent = stage
+        if outcome == "unsupported":  # the schema's reason: skip the split next time
+            self._unsupported = why
+        if outcome in ("full", "unsupported"):
+            return self._in_full(doc, NeedsFull(why or "this document"))
         try:
-            if outcome == "unsupported":  # the schema's reason: skip the split next time
-                self._unsupported = why
-            if outcome in ("full", "unsupported"):
-                raise NeedsFull(why or "this document")
             if outcome == "marks":  # the sites say this cannot be; if it is, use the marks
                 return list(self._fast_hits(doc))
             return list(self._checked(root, raw, background.receive_hits(sent, root)))
