@@ -832,3 +832,40 @@ def test_a_format_is_given_only_the_options_it_declares() -> None:
     assert _declared(QuietOnly, options) == {"quiet": True}
     assert _declared(anything, options) == options
     assert type(get_formatter("json", show_source=True, quiet=True)).__name__ == "JsonFormatter"
+
+
+def test_a_class_without_init_is_not_inspected(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A class with neither ``__init__`` nor ``__new__`` of its own takes no option: it is
+    not given to ``inspect.signature``, which would parse ``object.__init__``'s text
+    signature on every run (4 ms of a small map's start-up, for the JSON format)."""
+    import inspect
+
+    from xodrlint.formatters import _declared
+
+    inspected: list[object] = []
+    real_signature = inspect.signature
+
+    def signature(target: Any, **keywords: Any) -> inspect.Signature:
+        inspected.append(target)
+        return real_signature(target, **keywords)
+
+    monkeypatch.setattr(inspect, "signature", signature)
+
+    class Plain:
+        pass
+
+    class Derived(Plain):
+        pass
+
+    class Made:
+        def __new__(cls, *, quiet: bool = False) -> Made:
+            return super().__new__(cls)
+
+    options: dict[str, object] = {"show_source": True, "quiet": True}
+    assert _declared(Plain, options) == {}
+    assert _declared(Derived, options) == {}
+    assert inspected == []
+    assert _declared(Made, options) == {"quiet": True}
+    assert inspected == [Made]
+    assert type(get_formatter("json", show_source=True)).__name__ == "JsonFormatter"
+    assert inspected == [Made]
