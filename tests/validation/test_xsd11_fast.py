@@ -1127,6 +1127,48 @@ def test_the_translated_assertions_run_in_the_first_part_beside_the_rules(
     assert [h.element.tag for h in hits if h.element is not None] == ["object"]
 
 
+def test_the_caller_runs_the_translated_assertions_when_libxml2_is_still_busy(
+    pairs: dict[str, Pair], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # a city map: the rules end before libxml2 does, and the caller, free, runs the
+    # assertions while libxml2's thread validates; that thread then leaves them alone
+    fast = pairs["1.9.0"].fast
+    selectors = fast.selectors()
+    assert selectors is not None
+    threads: list[str] = []
+    real_check, real_hits = selectors.check, fast._libxml2.hits
+    validating = threading.Event()
+    may_end = threading.Event()
+
+    def check(root: etree._Element, **options: bool) -> Any:
+        threads.append(threading.current_thread().name)
+        return real_check(root, **options)
+
+    def slow_hits(doc: Document) -> Iterator[Hit]:
+        validating.set()
+        assert may_end.wait(30)
+        return real_hits(doc)
+
+    monkeypatch.setattr(selectors, "check", check)
+    monkeypatch.setattr(fast._libxml2, "hits", slow_hits)
+    doc = load_bytes(_document("1.9.0", _object('type="pole" width="1"')), "pole.xodr")
+    first, finish, _ = fast.stages(doc)
+    done: list[list[Hit]] = []
+    worker = threading.Thread(target=lambda: done.append(first()), name="validation", daemon=True)
+    worker.start()
+    assert validating.wait(30)
+
+    def libxml2_result() -> list[Hit]:
+        assert threads == [threading.current_thread().name]  # run here, before the join
+        may_end.set()
+        worker.join()
+        return done[0]
+
+    hits = finish(libxml2_result)
+    assert threads == [threading.current_thread().name]  # once: the thread did not
+    assert [h.element.tag for h in hits if h.element is not None] == ["object"]
+
+
 TYPED_SET = """<?xml version="1.0"?>
 <xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema"
     xmlns:vc="http://www.w3.org/2007/XMLSchema-versioning" vc:minVersion="1.1">
