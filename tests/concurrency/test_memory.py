@@ -6,13 +6,18 @@ from __future__ import annotations
 import ctypes
 import ctypes.util
 import sys
+import threading
+import time
+from collections.abc import Iterator
+from typing import Any
 
 import pytest
 
 from tests.conftest import SHARED_SCHEMAS, needs_shared
 from xodrlint.concurrency import memory
-from xodrlint.document.load import load_bytes
-from xodrlint.validation import libxml2
+from xodrlint.document.load import Document, load_bytes
+from xodrlint.findings import Hit
+from xodrlint.validation import libxml2, validators
 from xodrlint.validation.sets import SchemaFinder
 
 
@@ -49,21 +54,62 @@ def _map(roads: int) -> bytes:
 
 
 @needs_shared
-@pytest.mark.parametrize(("roads", "given_back"), [(10, 0), (6000, 1)])
-def test_a_large_documents_validation_gives_back_what_it_freed(
-    monkeypatch: pytest.MonkeyPatch, roads: int, given_back: int
+@pytest.mark.parametrize(
+    ("roads", "rules_still_run", "given_back"),
+    [(6000, True, 1), (6000, False, 0), (10, True, 0)],
+    ids=["large-while-the-rules-run", "large-once-the-caller-waits", "small"],
+)
+def test_validation_gives_back_what_it_freed_while_the_rules_still_run(
+    monkeypatch: pytest.MonkeyPatch, roads: int, rules_still_run: bool, given_back: int
 ) -> None:
+    # a railway: the rules outlast validation, and what it freed would add to their peak;
+    # a city map: the caller already waits, and the call would only delay the end
     calls: list[bool] = []
 
     def give_back() -> bool:
         calls.append(True)
         return True
 
-    monkeypatch.setattr(libxml2, "give_back_freed_memory", give_back)
+    monkeypatch.setattr(validators, "give_back_freed_memory", give_back)
     data = _map(roads)
-    assert (len(data) >= memory.GIVE_BACK_FROM) == bool(given_back)
-    schema = SchemaFinder(SHARED_SCHEMAS).find(1, 7)
-    assert schema is not None
+    assert (len(data) >= memory.GIVE_BACK_FROM) == (roads > 10)
     doc = load_bytes(data, "map.xodr")
-    list(libxml2.Libxml2Validator(schema.entry).hits(doc))
+    started = threading.Event()
+    may_end = threading.Event()
+    real_hits = libxml2.Libxml2Validator.hits
+
+    def hits(self: libxml2.Libxml2Validator, doc: Document) -> Iterator[Hit]:
+        started.set()
+        assert may_end.wait(30)
+        return real_hits(self, doc)
+
+    monkeypatch.setattr(libxml2.Libxml2Validator, "hits", hits)
+    caller_came: list[threading.Event] = []
+    real_giving_back = validators._giving_back
+
+    def giving_back(work: Any, size: int, rules_done: threading.Event) -> Any:
+        caller_came.append(rules_done)
+        return real_giving_back(work, size, rules_done)
+
+    monkeypatch.setattr(validators, "_giving_back", giving_back)
+    checks = validators.SchemaValidators(SchemaFinder(SHARED_SCHEMAS))
+    pending = checks.start(doc)
+    assert started.wait(30)
+    if rules_still_run:  # validation ends first, then the caller comes for it
+        may_end.set()
+        deadline = time.monotonic() + 30
+        while not calls and given_back and time.monotonic() < deadline:
+            time.sleep(0.001)
+        check = pending.result()
+    else:  # the caller waits before validation ends
+
+        def end_once_the_caller_waits() -> None:
+            assert caller_came[0].wait(30)
+            may_end.set()
+
+        waiting = threading.Thread(target=end_once_the_caller_waits)
+        waiting.start()
+        check = pending.result()
+        waiting.join()
+    assert check is not None and check.hits == ()
     assert len(calls) == given_back

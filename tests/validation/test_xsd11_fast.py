@@ -12,7 +12,7 @@ import shutil
 import subprocess
 import sys
 import threading
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -26,10 +26,8 @@ from typer.testing import CliRunner
 from tests.conftest import CORPUS_RAIL, REPO, SHARED, SHARED_SCHEMAS, needs_shared, record_forks
 from xodrlint.cli import app
 from xodrlint.concurrency import background
-from xodrlint.concurrency.memory import GIVE_BACK_FROM
 from xodrlint.document.load import Document, load_bytes
 from xodrlint.findings import Hit
-from xodrlint.validation import libxml2 as libxml2_module
 from xodrlint.validation.libxml2 import Libxml2Validator
 from xodrlint.validation.sets import SchemaFinder, SchemaLoadError, SchemaSet
 from xodrlint.validation.source import XS
@@ -1169,32 +1167,6 @@ def test_the_caller_runs_the_translated_assertions_when_libxml2_is_still_busy(
     hits = finish(libxml2_result)
     assert threads == [threading.current_thread().name]  # once: the thread did not
     assert [h.element.tag for h in hits if h.element is not None] == ["object"]
-
-
-def test_a_large_documents_translated_assertions_give_back_what_they_freed(
-    pairs: dict[str, Pair], monkeypatch: pytest.MonkeyPatch
-) -> None:
-    # the XPath's node sets are freed after the checks: given back, as libxml2's are
-    given_back: list[str] = []
-
-    def recorded(where: str) -> Callable[[], bool]:
-        def give_back() -> bool:
-            given_back.append(where)
-            return True
-
-        return give_back
-
-    monkeypatch.setattr(xsd11_fast, "give_back_freed_memory", recorded("assertions"))
-    monkeypatch.setattr(libxml2_module, "give_back_freed_memory", recorded("libxml2"))
-    fast = pairs["1.9.0"].fast
-    small = _document("1.9.0", _object('type="pole" width="1"'))
-    padding = b"<!--" + b" " * GIVE_BACK_FROM + b"-->"
-    large = small.replace(b"<OpenDRIVE", padding + b"<OpenDRIVE", 1)
-    for data in (small, large):
-        first, finish, _ = fast.stages(load_bytes(data, "pole.xodr"))
-        hits = finish(first)
-        assert [h.element.tag for h in hits if h.element is not None] == ["object"]
-    assert sorted(given_back) == ["assertions", "libxml2"]  # the large one's, each once
 
 
 TYPED_SET = """<?xml version="1.0"?>

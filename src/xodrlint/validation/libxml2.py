@@ -17,7 +17,6 @@ from typing import Final
 
 from lxml import etree
 
-from xodrlint.concurrency.memory import GIVE_BACK_FROM, give_back_freed_memory
 from xodrlint.document.load import Document
 from xodrlint.document.positions import TreePositions, parser_line
 from xodrlint.findings import CHILD_KINDS, Hit
@@ -182,10 +181,6 @@ class Libxml2Validator:
             yield from self._hits_past_entities(doc, doc.tree.getroot(), references)
             return
         errors = self._validate(doc.tree)
-        if len(doc.data) >= GIVE_BACK_FROM:
-            # what libxml2 freed would otherwise stay in this process while the rules
-            # still build their data: 33 MB of the 20 MB railway's peak of 528 MB
-            give_back_freed_memory()
         if errors:
             yield from errors_to_hits(doc, errors, self.catalog, doc.tree.getroot())
 

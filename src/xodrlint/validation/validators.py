@@ -15,6 +15,7 @@ validator error becomes one XS006 hit on the element it is about.
 from __future__ import annotations
 
 import contextlib
+import os
 import threading
 import time
 from collections.abc import Callable, Iterator
@@ -23,6 +24,7 @@ from typing import NamedTuple, Protocol, TypeVar
 
 from xodrlint.concurrency import background
 from xodrlint.concurrency.background import Pending
+from xodrlint.concurrency.memory import GIVE_BACK_FROM, give_back_freed_memory
 from xodrlint.document.load import Document, Version, nearest_published
 from xodrlint.findings import Hit
 from xodrlint.validation.libxml2 import BuiltinRailroadValidator, Libxml2Validator
@@ -60,6 +62,27 @@ def _timed(work: Callable[[], _T], seconds: list[float]) -> Callable[[], _T]:
             return work()
         finally:
             seconds.append(time.perf_counter() - began)
+
+    return run
+
+
+def _giving_back(
+    work: Callable[[], _T], size: int, rules_done: threading.Event
+) -> Callable[[], _T]:
+    """``work``, then, for a document of ``size`` bytes worth it, the memory it freed
+    given back to the system: while the caller's rules still build their data (a
+    railway), what validation freed would add to the run's peak (the 20 MB railway: 528
+    MB to 495 MB). Not once the caller waits for the result: the peak is then behind,
+    and the call (30 to 110 ms on a 20 MB map) would only delay the end."""
+    if size < GIVE_BACK_FROM:
+        return work
+    here = os.getpid()
+
+    def run() -> _T:
+        found = work()
+        if not rules_done.is_set() and os.getpid() == here:  # (a forked child's is freed)
+            give_back_freed_memory()
+        return found
 
     return run
 
@@ -127,11 +150,16 @@ class SchemaValidators:
             first, finish = (lambda: list(validator.hits(doc))), (lambda get: list(get()))
             thread_safe = validator.thread_safe
         beside: list[float] = []  # filled where the first part runs in this process
+        rules_done = threading.Event()  # the caller came for the result
         hits = background.start_hits(
-            _timed(first, beside), root, len(doc.data), thread_safe=thread_safe
+            _giving_back(_timed(first, beside), len(doc.data), rules_done),
+            root,
+            len(doc.data),
+            thread_safe=thread_safe,
         )
 
         def check() -> SchemaCheck:
+            rules_done.set()
             waited: list[float] = []
             began = time.perf_counter()
             found = tuple(finish(_timed(hits.result, waited)))

@@ -55,7 +55,6 @@ from typing import Any, Final, Protocol
 from lxml import etree
 
 from xodrlint.concurrency import background
-from xodrlint.concurrency.memory import GIVE_BACK_FROM, give_back_freed_memory
 from xodrlint.document.load import Document
 from xodrlint.findings import Hit
 from xodrlint.validation.sets import SchemaLoadError
@@ -273,8 +272,6 @@ class FastXsd11Validator:
             found = self._translated_checks(doc, root)
             if found is not None:
                 checked.append(found)
-            if len(doc.data) >= GIVE_BACK_FROM:  # (the XPath's node sets, freed)
-                give_back_freed_memory()
 
         def first() -> list[Hit]:
             hits = list(self._libxml2.hits(doc))
