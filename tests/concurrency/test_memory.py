@@ -9,6 +9,7 @@ import sys
 import threading
 import time
 from collections.abc import Iterator
+from types import SimpleNamespace
 from typing import Any
 
 import pytest
@@ -31,9 +32,19 @@ def test_glibc_is_asked_to_give_back_its_free_pages() -> None:
     assert memory.give_back_freed_memory() is True
 
 
-def test_without_malloc_trim_nothing_is_done(monkeypatch: pytest.MonkeyPatch) -> None:
+@pytest.mark.parametrize("where", ["macOS", "musl"])
+def test_without_malloc_trim_nothing_is_done(monkeypatch: pytest.MonkeyPatch, where: str) -> None:
+    class Musl:  # a C library without malloc_trim: ctypes raises AttributeError
+        def __getattr__(self, name: str) -> object:
+            raise AttributeError(name)
+
+    if where == "macOS":
+        monkeypatch.setattr(memory, "sys", SimpleNamespace(platform="darwin"))
+    else:
+        monkeypatch.setattr(memory, "sys", SimpleNamespace(platform="linux"))
+        fake_ctypes = SimpleNamespace(CDLL=lambda name: Musl())
+        monkeypatch.setattr("xodrlint.concurrency.memory.ctypes", fake_ctypes)
     memory._malloc_trim.cache_clear()
-    monkeypatch.setattr(sys, "platform", "darwin")
     try:
         assert memory.give_back_freed_memory() is False
     finally:

@@ -1169,6 +1169,70 @@ def test_the_caller_runs_the_translated_assertions_when_libxml2_is_still_busy(
     assert [h.element.tag for h in hits if h.element is not None] == ["object"]
 
 
+def test_the_caller_leaves_the_assertions_to_libxml2s_thread_that_took_them(
+    pairs: dict[str, Pair], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # a railway: libxml2's thread is done first and runs them; the caller, done with its
+    # rules while they still run, waits for that thread instead of running them again
+    fast = pairs["1.9.0"].fast
+    selectors = fast.selectors()
+    assert selectors is not None
+    threads: list[str] = []
+    real_check = selectors.check
+    checking = threading.Event()
+    may_end = threading.Event()
+
+    def check(root: etree._Element, **options: bool) -> Any:
+        threads.append(threading.current_thread().name)
+        checking.set()
+        assert may_end.wait(30)
+        return real_check(root, **options)
+
+    monkeypatch.setattr(selectors, "check", check)
+    doc = load_bytes(_document("1.9.0", _object('type="pole" width="1"')), "pole.xodr")
+    first, finish, _ = fast.stages(doc)
+    done: list[list[Hit]] = []
+    worker = threading.Thread(target=lambda: done.append(first()), name="validation", daemon=True)
+    worker.start()
+    assert checking.wait(30)
+
+    def libxml2_result() -> list[Hit]:
+        assert threads == ["validation"]  # the caller did not run them
+        may_end.set()
+        worker.join()
+        return done[0]
+
+    hits = finish(libxml2_result)
+    assert threads == ["validation"]
+    assert [h.element.tag for h in hits if h.element is not None] == ["object"]
+
+
+def test_an_error_in_the_callers_assertions_waits_for_libxml2s_thread(
+    pairs: dict[str, Pair], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # as before the caller ran them: the thread is joined before the error goes on, so no
+    # validation is left running beside the next file
+    fast = pairs["1.9.0"].fast
+    selectors = fast.selectors()
+    assert selectors is not None
+
+    def check(root: etree._Element, **options: bool) -> Any:
+        raise RuntimeError("broken")
+
+    monkeypatch.setattr(selectors, "check", check)
+    doc = load_bytes(_document("1.9.0", _object('type="pole" width="1"')), "pole.xodr")
+    first, finish, _ = fast.stages(doc)  # the caller's turn comes first: nothing ran yet
+    joined: list[bool] = []
+
+    def libxml2_result() -> list[Hit]:
+        joined.append(True)
+        return first()
+
+    with pytest.raises(RuntimeError, match="broken"):
+        finish(libxml2_result)
+    assert joined == [True]
+
+
 TYPED_SET = """<?xml version="1.0"?>
 <xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema"
     xmlns:vc="http://www.w3.org/2007/XMLSchema-versioning" vc:minVersion="1.1">
