@@ -1100,31 +1100,72 @@ def test_verbose_says_where_the_assertions_ran(cache: Path, tmp_path: Path) -> N
     assert "assertions: 24 in libxml2's XPath" in map_line, map_line
 
 
+class _Sides:
+    """A pole's split validation, libxml2's part in a thread named "validation": the
+    thread of each run of the translated assertions recorded, and libxml2 or the
+    assertions held (until :meth:`joined`) where a test says."""
+
+    def __init__(
+        self,
+        pairs: dict[str, Pair],
+        monkeypatch: pytest.MonkeyPatch,
+        *,
+        hold_libxml2: bool = False,
+        hold_checks: bool = False,
+    ) -> None:
+        fast = pairs["1.9.0"].fast
+        selectors = fast.selectors()
+        assert selectors is not None
+        self.threads: list[str] = []
+        self.held = threading.Event()
+        self._release = threading.Event()
+        real_check, real_hits = selectors.check, fast._libxml2.hits
+
+        def check(root: etree._Element, **options: bool) -> Any:
+            self.threads.append(threading.current_thread().name)
+            if hold_checks:
+                self._hold()
+            return real_check(root, **options)
+
+        def hits(doc: Document) -> Iterator[Hit]:
+            if hold_libxml2:
+                self._hold()
+            return real_hits(doc)
+
+        monkeypatch.setattr(selectors, "check", check)
+        monkeypatch.setattr(fast._libxml2, "hits", hits)
+        doc = load_bytes(_document("1.9.0", _object('type="pole" width="1"')), "pole.xodr")
+        self.first, self.finish, self.thread_safe = fast.stages(doc)
+        self._done: list[list[Hit]] = []
+        self.worker = threading.Thread(
+            target=lambda: self._done.append(self.first()), name="validation", daemon=True
+        )
+        self.worker.start()
+
+    def _hold(self) -> None:
+        self.held.set()
+        assert self._release.wait(30)
+
+    def joined(self) -> list[Hit]:
+        """libxml2's part, its thread let go and joined (what the caller waits for)."""
+        self._release.set()
+        self.worker.join()
+        return self._done[0]
+
+
+def _tags(hits: list[Hit]) -> list[str]:
+    return [str(h.element.tag) for h in hits if h.element is not None]
+
+
 def test_the_translated_assertions_run_in_the_first_part_beside_the_rules(
     pairs: dict[str, Pair], monkeypatch: pytest.MonkeyPatch
 ) -> None:
     # libxml2's XPath runs without the GIL: in the validation thread, after libxml2
-    fast = pairs["1.9.0"].fast
-    selectors = fast.selectors()
-    assert selectors is not None
-    threads: list[str] = []
-    real = selectors.check
-
-    def check(root: etree._Element, **options: bool) -> Any:
-        threads.append(threading.current_thread().name)
-        return real(root, **options)
-
-    monkeypatch.setattr(selectors, "check", check)
-    doc = load_bytes(_document("1.9.0", _object('type="pole" width="1"')), "pole.xodr")
-    first, finish, thread_safe = fast.stages(doc)
-    assert thread_safe
-    done: list[list[Hit]] = []
-    worker = threading.Thread(target=lambda: done.append(first()), name="validation")
-    worker.start()
-    worker.join()
-    hits = finish(lambda: done[0])
-    assert threads == ["validation"]
-    assert [h.element.tag for h in hits if h.element is not None] == ["object"]
+    sides = _Sides(pairs, monkeypatch)
+    assert sides.thread_safe
+    sides.worker.join()
+    assert _tags(sides.finish(sides.joined)) == ["object"]
+    assert sides.threads == ["validation"]
 
 
 def test_the_caller_runs_the_translated_assertions_when_libxml2_is_still_busy(
@@ -1132,41 +1173,16 @@ def test_the_caller_runs_the_translated_assertions_when_libxml2_is_still_busy(
 ) -> None:
     # a city map: the rules end before libxml2 does, and the caller, free, runs the
     # assertions while libxml2's thread validates; that thread then leaves them alone
-    fast = pairs["1.9.0"].fast
-    selectors = fast.selectors()
-    assert selectors is not None
-    threads: list[str] = []
-    real_check, real_hits = selectors.check, fast._libxml2.hits
-    validating = threading.Event()
-    may_end = threading.Event()
-
-    def check(root: etree._Element, **options: bool) -> Any:
-        threads.append(threading.current_thread().name)
-        return real_check(root, **options)
-
-    def slow_hits(doc: Document) -> Iterator[Hit]:
-        validating.set()
-        assert may_end.wait(30)
-        return real_hits(doc)
-
-    monkeypatch.setattr(selectors, "check", check)
-    monkeypatch.setattr(fast._libxml2, "hits", slow_hits)
-    doc = load_bytes(_document("1.9.0", _object('type="pole" width="1"')), "pole.xodr")
-    first, finish, _ = fast.stages(doc)
-    done: list[list[Hit]] = []
-    worker = threading.Thread(target=lambda: done.append(first()), name="validation", daemon=True)
-    worker.start()
-    assert validating.wait(30)
+    sides = _Sides(pairs, monkeypatch, hold_libxml2=True)
+    assert sides.held.wait(30)
+    caller = threading.current_thread().name
 
     def libxml2_result() -> list[Hit]:
-        assert threads == [threading.current_thread().name]  # run here, before the join
-        may_end.set()
-        worker.join()
-        return done[0]
+        assert sides.threads == [caller]  # run here, before the join
+        return sides.joined()
 
-    hits = finish(libxml2_result)
-    assert threads == [threading.current_thread().name]  # once: the thread did not
-    assert [h.element.tag for h in hits if h.element is not None] == ["object"]
+    assert _tags(sides.finish(libxml2_result)) == ["object"]
+    assert sides.threads == [caller]  # once: the thread did not
 
 
 def test_the_caller_leaves_the_assertions_to_libxml2s_thread_that_took_them(
@@ -1174,37 +1190,15 @@ def test_the_caller_leaves_the_assertions_to_libxml2s_thread_that_took_them(
 ) -> None:
     # a railway: libxml2's thread is done first and runs them; the caller, done with its
     # rules while they still run, waits for that thread instead of running them again
-    fast = pairs["1.9.0"].fast
-    selectors = fast.selectors()
-    assert selectors is not None
-    threads: list[str] = []
-    real_check = selectors.check
-    checking = threading.Event()
-    may_end = threading.Event()
-
-    def check(root: etree._Element, **options: bool) -> Any:
-        threads.append(threading.current_thread().name)
-        checking.set()
-        assert may_end.wait(30)
-        return real_check(root, **options)
-
-    monkeypatch.setattr(selectors, "check", check)
-    doc = load_bytes(_document("1.9.0", _object('type="pole" width="1"')), "pole.xodr")
-    first, finish, _ = fast.stages(doc)
-    done: list[list[Hit]] = []
-    worker = threading.Thread(target=lambda: done.append(first()), name="validation", daemon=True)
-    worker.start()
-    assert checking.wait(30)
+    sides = _Sides(pairs, monkeypatch, hold_checks=True)
+    assert sides.held.wait(30)
 
     def libxml2_result() -> list[Hit]:
-        assert threads == ["validation"]  # the caller did not run them
-        may_end.set()
-        worker.join()
-        return done[0]
+        assert sides.threads == ["validation"]  # the caller did not run them
+        return sides.joined()
 
-    hits = finish(libxml2_result)
-    assert threads == ["validation"]
-    assert [h.element.tag for h in hits if h.element is not None] == ["object"]
+    assert _tags(sides.finish(libxml2_result)) == ["object"]
+    assert sides.threads == ["validation"]
 
 
 def test_an_error_in_the_callers_assertions_waits_for_libxml2s_thread(
