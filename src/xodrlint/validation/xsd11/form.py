@@ -359,12 +359,27 @@ def full_validator(entry: Path, form: Xsd10Form) -> Any:
 
             schema = pickle.loads(content)
             if isinstance(schema, XMLSchemaBase) and schema.XSD_VERSION == "1.1":
-                return Xsd11Validator.of_schema(schema)
+                return Xsd11Validator.of_schema(_with_parser_sources(schema))
         cache.warn(path, f"{path} does not hold an XSD 1.1 schema model")
     validator = Xsd11Validator(entry, schema_checked=True)
     with contextlib.suppress(pickle.PicklingError, RecursionError, TypeError):
         cache.write(path, pickle.dumps(validator.schema, pickle.HIGHEST_PROTOCOL))
     return validator
+
+
+def _with_parser_sources(schema: Any) -> Any:
+    """``schema`` with the XPath source of each assertion's parser put back: elementpath's
+    ``XPath2Parser`` pickles its ``__dict__`` only, and ``source`` is a slot. Without it,
+    an assertion whose XPath fails while it is evaluated (a type error) cannot say where,
+    and xmlschema raised AttributeError for the file instead of reporting the error.
+    Each assertion has a parser of its own, which parsed the assertion's test."""
+    for component in schema.maps.iter_components():
+        parser = getattr(component, "parser", None)
+        test = getattr(component, "path", None)
+        if parser is not None and isinstance(test, str) and not hasattr(parser, "source"):
+            with contextlib.suppress(AttributeError, TypeError):  # another parser's shape
+                parser.source = test
+    return schema
 
 
 def _pickle_name() -> str:
