@@ -869,3 +869,19 @@ def test_a_class_without_init_is_not_inspected(monkeypatch: pytest.MonkeyPatch) 
     assert inspected == [Made]
     assert type(get_formatter("json", show_source=True)).__name__ == "JsonFormatter"
     assert inspected == [Made]
+
+
+def test_the_summary_does_not_claim_success_where_a_check_failed() -> None:
+    # a file whose lint (or one rule) failed was not all checked: exit 3, and the text
+    # report said "All checks passed" under the error line
+    clean = FileReport("clean.xodr")
+    failed = FileReport("odd.xodr", internal_errors=("linting odd.xodr failed: Error()",))
+    metas = default_registry().metas
+    assert (
+        render("text", RunResult((clean,), metas, __version__))
+        .rstrip()
+        .endswith("All checks passed: 1 file, no findings.")
+    )
+    text = render("text", RunResult((clean, failed), metas, __version__))
+    assert "All checks passed" not in text
+    assert "No findings in 2 of 2 files. 1 not fully checked (internal error)." in text

@@ -174,8 +174,10 @@ def _summary(result: RunResult) -> Text:
     counts = result.count_by_severity()
     total = sum(counts.values())
     unreadable = sum(1 for r in result.reports if r.error)
+    # a rule or the whole lint failed there: what it did not check did not pass
+    broken = sum(1 for r in result.reports if r.internal_errors and not r.error)
     new = " new" if result.baseline is not None else ""
-    if total == 0 and not unreadable:
+    if total == 0 and not unreadable and not broken:
         text = Text(f"All checks passed: {plural(files, 'file')}, no{new} findings", style="green")
     elif total == 0:
         text = Text(f"No{new} findings in {files - unreadable} of {plural(files, 'file')}")
@@ -203,4 +205,6 @@ def _summary(result: RunResult) -> Text:
     text.append(".")
     if unreadable:
         text.append(f" {unreadable} could not be read.", style="red")
+    if broken:
+        text.append(f" {broken} not fully checked (internal error).", style="red")
     return text
