@@ -34,7 +34,12 @@ from xodrlint.validation.source import XS
 from xodrlint.validation.validators import SchemaValidators
 from xodrlint.validation.xsd11 import fast as xsd11_fast
 from xodrlint.validation.xsd11 import translation as translation_module
-from xodrlint.validation.xsd11.alternatives import XSI, holds_a_site, needs_xsd11_reading
+from xodrlint.validation.xsd11.alternatives import (
+    XSI,
+    XSI_TYPE,
+    holds_a_site,
+    needs_xsd11_reading,
+)
 from xodrlint.validation.xsd11.fast import FastXsd11Validator, xsd11_validator
 from xodrlint.validation.xsd11.form import CACHE_DIR_ENV, derive_xsd10, xsd10_form
 from xodrlint.validation.xsd11.full import Xsd11Validator
@@ -1412,3 +1417,37 @@ def test_a_forked_validation_still_says_why_it_went_to_full_validation(
         check.route
     )
     assert forked  # (the route this is about)
+
+
+@pytest.mark.parametrize("written", ["INF", " nothing ", "q:t_road", "xs:t_road"])
+def test_an_xsi_type_naming_no_type_is_a_finding_and_the_rest_is_validated(
+    pairs: dict[str, Pair], written: str
+) -> None:
+    # xmlschema raised (XMLSchemaKeyError: global component not found) instead of
+    # reporting it: an internal error for the file, and none of its findings
+    data = _document("1.9.0", _object('type="pole" width="1"')).replace(
+        b'<road length="100" id="1"',
+        b'<road xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance" '
+        b'xmlns:xs="http://www.w3.org/2001/XMLSchema" xsi:type="'
+        + written.encode()
+        + b'" length="100" id="1"',
+        1,
+    )
+    doc = load_bytes(data, "typed.xodr")
+    assert doc.tree is not None
+    found = [(h.element.tag if h.element is not None else None, h.message) for h in
+             pairs["1.9.0"].fast.hits(doc)]  # fmt: skip
+    road = doc.tree.getroot().find("road")
+    assert ("road", _unresolved(written)) in found
+    # the pole's assertion, found on the copy, stands on the document's own object
+    objects = [h.element for h in pairs["1.9.0"].fast.hits(doc)
+               if h.element is not None and h.element.tag == "object"]  # fmt: skip
+    assert road is not None and objects == [road.find("objects/object")]
+    assert road is not None and road.get(XSI_TYPE) == written  # the document untouched
+
+
+def _unresolved(written: str) -> str:
+    return (
+        f"'road/@xsi:type': the QName value '{written.strip()}' of the xsi:type attribute "
+        "does not resolve to a type definition"
+    )
