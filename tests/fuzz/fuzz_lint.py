@@ -17,10 +17,14 @@ import atheris  # type: ignore[import-not-found, import-untyped, unused-ignore]
 with atheris.instrument_imports(include=["xodrlint"]):
     from xodrlint.api import lint_bytes
 
-    lint_bytes(
-        b'<OpenDRIVE><header revMajor="1" revMinor="7"/><road id="1"><railroad>'
-        b'<switch id="1"/></railroad></road></OpenDRIVE>'
-    )
+    for minor, typed in ((b"7", b""), (b"9", b' xsi:type="t_road"')):
+        # 1.9 too, with an xsi:type: the XSD 1.1 routes (the fast one and xmlschema's)
+        # load lazily as well (with a schema path set, their modules are imported here)
+        lint_bytes(
+            b'<OpenDRIVE xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance">'
+            b'<header revMajor="1" revMinor="' + minor + b'"/><road id="1"' + typed + b">"
+            b'<railroad><switch id="1"/></railroad></road></OpenDRIVE>'
+        )
 
 from tests.wellformed import assert_well_formed
 
