@@ -884,4 +884,4 @@ def test_the_summary_does_not_claim_success_where_a_check_failed() -> None:
     )
     text = render("text", RunResult((clean, failed), metas, __version__))
     assert "All checks passed" not in text
-    assert "No findings in 2 of 2 files. 1 not fully checked (internal error)." in text
+    assert "No findings in 2 of 2 files. 1 not fully checked." in text

@@ -1451,3 +1451,49 @@ def _unresolved(written: str) -> str:
         f"'road/@xsi:type': the QName value '{written.strip()}' of the xsi:type attribute "
         "does not resolve to a type definition"
     )
+
+
+def test_an_unpickled_model_evaluates_what_makes_tokens_while_it_runs() -> None:
+    # elementpath's parsers pickle without their slots: a `cast as` makes a token while
+    # it is evaluated, and raised AttributeError ('next_match') on every element
+    import pickle
+
+    import xmlschema
+
+    from xodrlint.validation.xsd11.form import _with_parser_sources
+
+    schema = xmlschema.XMLSchema11(
+        '<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema"><xs:element name="r">'
+        '<xs:complexType><xs:attribute name="a" type="xs:string"/>'
+        '<xs:assert test="string(string(@a) cast as xs:integer) ne &apos;zz&apos;"/>'
+        '<xs:assert test="@a castable as xs:integer"/>'
+        "</xs:complexType></xs:element></xs:schema>"
+    )
+    unpickled = _with_parser_sources(pickle.loads(pickle.dumps(schema)))
+    for written in ("5", "x"):
+        document = etree.fromstring(f'<r a="{written}"/>')
+        fresh = [str(error.reason) for error in schema.iter_errors(document)]
+        assert [str(error.reason) for error in unpickled.iter_errors(document)] == fresh
+
+
+@pytest.mark.parametrize(
+    "signal",
+    [
+        # skipped content (userData's xs:any): xmlschema does not judge it, nor libxml2
+        '<signal id="5" s="1" t="0" zOffset="0" dynamic="no" orientation="+" type="x"'
+        ' subtype="-1" country="DE"><userData code="a"><foo xsi:type="nosuch"/></userData>'
+        "</signal>",
+        # an unexpected element: its own finding, not one for its xsi:type
+        '<bogus xsi:type="INF"/>',
+    ],
+    ids=["in-skipped-content", "on-an-unexpected-element"],
+)
+def test_an_xsi_type_xmlschema_does_not_judge_is_no_finding(
+    pairs: dict[str, Pair], signal: str
+) -> None:
+    typed = _document("1.9.0", {"signals": signal}).replace(
+        b"<OpenDRIVE>", b'<OpenDRIVE xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance">', 1
+    )
+    found = [hit.message for hit in pairs["1.9.0"].fast.hits(load_bytes(typed, "t.xodr"))]
+    assert not [message for message in found if "xsi:type" in message], found
+    assert len(found) == (0 if "userData" in signal else 1), found

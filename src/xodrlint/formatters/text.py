@@ -174,7 +174,8 @@ def _summary(result: RunResult) -> Text:
     counts = result.count_by_severity()
     total = sum(counts.values())
     unreadable = sum(1 for r in result.reports if r.error)
-    # a rule or the whole lint failed there: what it did not check did not pass
+    # a rule failed or ran out of time there, or the whole lint failed: what it did not
+    # check did not pass
     broken = sum(1 for r in result.reports if r.internal_errors and not r.error)
     new = " new" if result.baseline is not None else ""
     if total == 0 and not unreadable and not broken:
@@ -206,5 +207,5 @@ def _summary(result: RunResult) -> Text:
     if unreadable:
         text.append(f" {unreadable} could not be read.", style="red")
     if broken:
-        text.append(f" {broken} not fully checked (internal error).", style="red")
+        text.append(f" {broken} not fully checked.", style="red")
     return text

@@ -368,18 +368,43 @@ def full_validator(entry: Path, form: Xsd10Form) -> Any:
 
 
 def _with_parser_sources(schema: Any) -> Any:
-    """``schema`` with the XPath source of each assertion's parser put back: elementpath's
-    ``XPath2Parser`` pickles its ``__dict__`` only, and ``source`` is a slot. Without it,
-    an assertion whose XPath fails while it is evaluated (a type error) cannot say where,
-    and xmlschema raised AttributeError for the file instead of reporting the error.
-    Each assertion has a parser of its own, which parsed the assertion's test."""
+    """``schema`` with its XPath parsers whole again: elementpath's parsers pickle their
+    ``__dict__`` only, and ``source``, ``tokens``, ``token``, ``next_token`` and
+    ``next_match`` are slots. Without them, an assertion whose XPath raised while it was
+    evaluated (a type error, as the official multiBoard test's on every multiBoard)
+    could not say where, and a ``cast as`` made no token: xmlschema raised
+    AttributeError for the file instead of reporting. Each assertion has a parser of its
+    own, which parsed the assertion's test; the others are put back as a new parser
+    starts."""
     for component in schema.maps.iter_components():
-        parser = getattr(component, "parser", None)
-        test = getattr(component, "path", None)
-        if parser is not None and isinstance(test, str) and not hasattr(parser, "source"):
-            with contextlib.suppress(AttributeError, TypeError):  # another parser's shape
-                parser.source = test
+        for owner in (component, getattr(component, "selector", None), *_fields(component)):
+            parser = getattr(owner, "parser", None)
+            if parser is not None:
+                test = getattr(owner, "path", None)
+                with contextlib.suppress(Exception):  # another parser's shape: as it was
+                    _restore_slots(parser, test if isinstance(test, str) else "")
     return schema
+
+
+def _fields(component: Any) -> tuple[Any, ...]:
+    fields = getattr(component, "fields", None)
+    return tuple(fields) if isinstance(fields, list | tuple) else ()
+
+
+def _restore_slots(parser: Any, source: str) -> None:
+    """What ``Parser.__init__`` sets, where the pickle lost it."""
+    if not hasattr(parser, "source"):
+        parser.source = source
+    if not hasattr(parser, "tokens"):
+        parser.tokens = iter(())
+    if not hasattr(parser, "next_match"):
+        parser.next_match = None
+    if not hasattr(parser, "_start_token"):
+        parser._start_token = parser.symbol_table["(start)"](parser)
+    if not hasattr(parser, "token"):
+        parser.token = parser._start_token
+    if not hasattr(parser, "next_token"):
+        parser.next_token = parser._start_token
 
 
 def _pickle_name() -> str:

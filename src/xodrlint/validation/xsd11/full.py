@@ -18,6 +18,7 @@ from typing import Any, Final
 
 import xmlschema
 from lxml import etree
+from xmlschema.exceptions import XMLSchemaKeyError
 from xmlschema.validators import XsdAssert
 
 from xodrlint.concurrency import background
@@ -80,24 +81,41 @@ class Xsd11Validator:
     def hits(self, doc: Document) -> Iterator[Hit]:
         assert doc.tree is not None
         root = doc.tree.getroot()
-        unresolved = [e for e in _typed(root) if not self._resolves(e)]
-        if not unresolved:
-            yield from self.error_hits(root, self._schema.iter_errors(doc.tree))
+        try:
+            errors = list(self._schema.iter_errors(doc.tree))
+        except XMLSchemaKeyError:
+            # an xsi:type that names no type of the set, on an element in a model group:
+            # xmlschema's XSD 1.1 check of its dynamic type raises instead of reporting
+            yield from self._hits_past_unknown_types(root)
             return
-        # An xsi:type that names no type of the set made xmlschema raise (its XSD 1.1
-        # check of the element's dynamic type does not catch it) instead of reporting it:
-        # each is said here, as libxml2 says it, and the rest is validated on a copy
-        # without them, its findings put back on the document's own elements.
-        for element in unresolved:
-            yield Hit(element, _unresolved_message(element), kind="other")
+        yield from self.error_hits(root, errors)
+
+    def _hits_past_unknown_types(self, root: etree._Element) -> Iterator[Hit]:
+        """The document validated on a copy without the ``xsi:type`` attributes that name
+        no type, its findings put back on the document's own elements; each such
+        attribute is said as libxml2 says it, where xmlschema validates its element (one
+        in skipped content, as in ``userData``, or an unexpected one, is not judged)."""
+        unresolved = [e for e in _typed(root) if not self._resolves(e)]
         copied = copy_module.deepcopy(root)
         positions = TreePositions()
+        twins: list[tuple[etree._Element, etree._Element]] = []
         for element in unresolved:
             steps = positions.steps_to(element, root)
             twin = positions.path_from(copied, steps) if steps is not None else None
             if twin is not None and XSI_TYPE in twin.attrib:
                 del twin.attrib[XSI_TYPE]
-        found = list(self.error_hits(copied, self._schema.iter_errors(copied)))
+                twins.append((element, twin))
+        validated: set[etree._Element] = set()
+
+        def seen(element: Any, declaration: Any) -> bool:
+            validated.add(element)
+            return False  # go on validating it
+
+        errors = self._schema.iter_errors(copied, validation_hook=seen)
+        found = list(self.error_hits(copied, errors))
+        for element, twin in twins:
+            if twin in validated:
+                yield Hit(element, _unresolved_message(element), kind="other")
         yield from background.receive_hits(background.send_hits(found, copied), root)
 
     def _resolves(self, element: etree._Element) -> bool:
