@@ -1460,7 +1460,7 @@ def test_an_unpickled_model_evaluates_what_makes_tokens_while_it_runs() -> None:
 
     import xmlschema
 
-    from xodrlint.validation.xsd11.form import _with_parser_sources
+    from xodrlint.validation.xsd11.form import _with_whole_parsers
 
     schema = xmlschema.XMLSchema11(
         '<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema"><xs:element name="r">'
@@ -1469,7 +1469,7 @@ def test_an_unpickled_model_evaluates_what_makes_tokens_while_it_runs() -> None:
         '<xs:assert test="@a castable as xs:integer"/>'
         "</xs:complexType></xs:element></xs:schema>"
     )
-    unpickled = _with_parser_sources(pickle.loads(pickle.dumps(schema)))
+    unpickled = _with_whole_parsers(pickle.loads(pickle.dumps(schema)))
     for written in ("5", "x"):
         document = etree.fromstring(f'<r a="{written}"/>')
         fresh = [str(error.reason) for error in schema.iter_errors(document)]

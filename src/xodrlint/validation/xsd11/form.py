@@ -359,7 +359,7 @@ def full_validator(entry: Path, form: Xsd10Form) -> Any:
 
             schema = pickle.loads(content)
             if isinstance(schema, XMLSchemaBase) and schema.XSD_VERSION == "1.1":
-                return Xsd11Validator.of_schema(_with_parser_sources(schema))
+                return Xsd11Validator.of_schema(_with_whole_parsers(schema))
         cache.warn(path, f"{path} does not hold an XSD 1.1 schema model")
     validator = Xsd11Validator(entry, schema_checked=True)
     with contextlib.suppress(pickle.PicklingError, RecursionError, TypeError):
@@ -367,7 +367,7 @@ def full_validator(entry: Path, form: Xsd10Form) -> Any:
     return validator
 
 
-def _with_parser_sources(schema: Any) -> Any:
+def _with_whole_parsers(schema: Any) -> Any:
     """``schema`` with its XPath parsers whole again: elementpath's parsers pickle their
     ``__dict__`` only, and ``source``, ``tokens``, ``token``, ``next_token`` and
     ``next_match`` are slots. Without them, an assertion whose XPath raised while it was
